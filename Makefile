@@ -1,0 +1,27 @@
+# The two commands of the README: `make demo` (main job) and `make test` (the test suite).
+# Both install whatever is missing first (scripts/bootstrap.sh) and are idempotent.
+VENV := .venv
+BIN := $(VENV)/bin
+export OMPI_ALLOW_RUN_AS_ROOT := 1
+export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
+export OMPI_MCA_rmaps_base_oversubscribe := 1
+export MPLBACKEND := Agg
+
+.PHONY: demo test lint format bootstrap
+
+bootstrap:
+	@scripts/bootstrap.sh
+
+demo: bootstrap
+	$(BIN)/rve-rod geometry --preset cotton-20s2 --stitch 5.5 --plot results/loop.png --vtk results/loop.vtu
+
+lint: bootstrap
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
+
+test: lint
+	$(BIN)/python -m pytest
+
+format: bootstrap
+	$(BIN)/ruff format .
+	$(BIN)/ruff check --fix .

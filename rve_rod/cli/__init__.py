@@ -1,0 +1,55 @@
+"""The `rve-rod` command: one module per subcommand, each with `register(subparsers)`.
+
+Every subcommand module adds its parser and sets `run=callable(args) -> int`. Bad input
+(`InputError`) prints one line and exits with status 2; a solver that cannot converge
+(`ConvergenceError`) prints one line and exits with status 3 after the subcommand has saved
+what converged.
+"""
+
+import argparse
+import logging
+import sys
+
+from rve_rod import __version__
+from rve_rod.errors import ConvergenceError, InputError
+
+SUBCOMMANDS: tuple[str, ...] = ()
+"""Names of the subcommand modules in this package, in the order `--help` lists them."""
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with all subcommands registered."""
+    parser = argparse.ArgumentParser(
+        prog="rve-rod",
+        description="Yarn-level model of single-jersey knits: loop geometry, Cosserat-rod RVE, "
+        "response surfaces.",
+    )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    parser.add_argument("-v", "--verbose", action="count", default=0, help="more log output")
+    subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for name in SUBCOMMANDS:
+        module = __import__(f"rve_rod.cli.{name}", fromlist=["register"])
+        module.register(subparsers)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of `rve-rod`; returns the process exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    logging.basicConfig(
+        level=logging.WARNING - 10 * min(args.verbose, 2),
+        format="%(levelname)s %(name)s: %(message)s",
+    )
+    try:
+        return int(args.run(args) or 0)
+    except InputError as error:
+        print(f"rve-rod {args.command}: error: {error}", file=sys.stderr)
+        return 2
+    except ConvergenceError as error:
+        print(f"rve-rod {args.command}: not converged: {error}", file=sys.stderr)
+        return 3
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Install what is missing, idempotently: Debian packages, the venv, the project (editable).
+# Fast when everything is already there (a dpkg query and a stamp-file check).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+debs=(python3-dolfinx python3-gmsh python3-meshio python3-h5py python3-numba python3-scipy
+      python3-numpy python3-mpi4py python3-matplotlib python3-venv python3-dev)
+missing=()
+for pkg in "${debs[@]}"; do
+    dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" \
+        || missing+=("$pkg")
+done
+if ((${#missing[@]})); then
+    echo "bootstrap: installing Debian packages: ${missing[*]}"
+    sudo=""; [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    $sudo apt-get update -q
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+venv=.venv
+if [ ! -x "$venv/bin/python" ]; then
+    echo "bootstrap: creating $venv from /usr/bin/python3 with system site packages"
+    /usr/bin/python3 -m venv --system-site-packages "$venv"
+fi
+stamp="$venv/.installed"
+if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
+    echo "bootstrap: installing the project (editable) and test tools"
+    "$venv/bin/python" -m pip install -q --disable-pip-version-check --upgrade "pip>=23" 2>/dev/null
+    "$venv/bin/python" -m pip install -q --disable-pip-version-check -e ".[test]" 2>&1 | grep -v "is ignored: it is neither" || true
+    touch "$stamp"
+fi
