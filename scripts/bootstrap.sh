@@ -26,7 +26,13 @@ fi
 stamp="$venv/.installed"
 if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
     echo "bootstrap: installing the project (editable) and test tools"
-    "$venv/bin/python" -m pip install -q --disable-pip-version-check --upgrade "pip>=23" 2>/dev/null
-    "$venv/bin/python" -m pip install -q --disable-pip-version-check -e ".[test]" 2>&1 | grep -v "is ignored: it is neither" || true
+    log="$venv/pip.log"
+    if ! { "$venv/bin/python" -m pip install --disable-pip-version-check --upgrade "pip>=23" &&
+           "$venv/bin/python" -m pip install --disable-pip-version-check -e ".[test]"; } >"$log" 2>&1
+    then
+        cat "$log" >&2
+        echo "bootstrap: pip install failed (log above, also in $log)" >&2
+        exit 1
+    fi
     touch "$stamp"
 fi
