@@ -5,9 +5,11 @@ axis-aligned box of the control points of a group of consecutive spans bounds th
 collocation point can come within the detection radius (2r + margin) of a group only if it
 lies in the group's box inflated by that radius. The sweep along x
 (`_kernels.box_overlaps`) finds those (point, group) pairs over the groups of the cell and of
-its periodic images (translated by F (i a1 + j a2)); a point's own yarn near it in arc
-length is then excluded. Groups of one span are the classic per-span boxes; larger groups
-trade a few more span tests in the narrow phase for fewer, larger boxes.
+its periodic images (translated by F (i a1 + j a2)); groups of a point's own yarn that lie
+entirely within the exclusion arc length of it are dropped (the model drops the remaining
+minima closer than that along the yarn after the narrow phase). Groups of one span are the
+classic per-span boxes; larger groups trade a few more span tests in the narrow phase for
+fewer, larger boxes.
 """
 
 from typing import NamedTuple
@@ -132,8 +134,8 @@ def find_candidates(
         slave_strands: (m,) strand key of each collocation point (image (0, 0)).
         images: (nI, 2) lattice images; translations: (nI, 3) their current translations.
         reach: detection radius 2r + margin (mm).
-        exclusion_arc_length: a point ignores the groups of its own strand whose arc interval
-            comes within this arc length of it (mm).
+        exclusion_arc_length: groups of the point's own strand whose arc interval lies within
+            this arc length of the point are dropped (mm).
     """
     n_groups = groups.yarn.size
     master_low = (boxes.low[None] + translations[:, None]).reshape(-1, 3) - reach
@@ -149,11 +151,11 @@ def find_candidates(
     box_group = np.tile(np.arange(n_groups), images.shape[0])
     box_strand, box_shift = layout.strands(groups.yarn[box_group], images[box_image])
     arc = layout.point_arc[slave]
-    arc_gap = np.maximum(
-        np.maximum(groups.arc_start[group] + box_shift[master] - arc, 0.0),
-        arc - groups.arc_end[group] - box_shift[master],
+    reach_along = np.maximum(
+        np.abs(groups.arc_start[group] + box_shift[master] - arc),
+        np.abs(groups.arc_end[group] + box_shift[master] - arc),
     )
-    keep = (box_strand[master] != slave_strands[slave]) | (arc_gap >= exclusion_arc_length)
+    keep = (box_strand[master] != slave_strands[slave]) | (reach_along >= exclusion_arc_length)
     return Candidates(
         slave=slave[keep],
         group=group[keep],

@@ -54,8 +54,9 @@ class ContactOptions:
     Attributes:
         search_margin: detection radius beyond touching, d < 2r + margin (mm); points within
             it get friction anchors before they touch. None: half the yarn radius.
-        exclusion_arc_length: a point ignores its own yarn within this reference arc length
-            (mm), where closeness is adjacency, not contact. None: four yarn radii.
+        exclusion_arc_length: a distance minimum on the point's own yarn closer than this
+            reference arc length to the point is adjacency, not contact, and is ignored (mm).
+            None: four yarn radii.
         max_image_shift: largest |i|, |j| of the lattice images searched (default 3).
         spans_per_box: consecutive knot spans bounded by one box in the broad phase (default
             8; 1 is one box per span). Changes the cost only, never the result.
@@ -83,8 +84,8 @@ class ContactStatistics(NamedTuple):
         max_penetration: largest penetration g = 2r - d (mm), 0 without contact.
         images: lattice images searched (including the cell itself).
         box_pairs: (collocation point, span-group box) pairs found by the broad phase.
-        point_pairs: of those, the pairs searched by the narrow phase (own-yarn neighbours
-            excluded).
+        span_tests: (collocation point, span) pairs the narrow phase examined (the spans of
+            the candidate groups, own-yarn neighbours excluded).
         all_pairs: all (collocation point, span, image) pairs: what a search without broad
             phase would project.
         closest_points: local distance minima found within the detection radius.
@@ -96,7 +97,7 @@ class ContactStatistics(NamedTuple):
     max_penetration: float
     images: int
     box_pairs: int
-    point_pairs: int
+    span_tests: int
     all_pairs: int
     closest_points: int
     sticking: int
@@ -170,6 +171,8 @@ class _Selection(NamedTuple):
     span: np.ndarray
     tau: np.ndarray
     image: np.ndarray  # (k, 2) lattice image
+    strand: np.ndarray  # (k,) strand key of the master
+    arc: np.ndarray  # (k,) unwrapped reference arc coordinate of the closest point (mm)
     state: Kinematics
 
 
@@ -278,7 +281,7 @@ class ContactModel:
         trial_history = None
         blocks = normal_blocks
         if self.friction is not None:
-            strand, arc = self._strand_coordinates(selection)
+            strand, arc = selection.strand, selection.arc
             history = self._history
             anchor = match_anchors(
                 history, slave, strand[active], arc[active], self.exclusion_arc_length
@@ -332,7 +335,7 @@ class ContactModel:
             max_penetration=float(penetration.max()) if active.size else 0.0,
             images=counts["images"],
             box_pairs=counts["box_pairs"],
-            point_pairs=counts["point_pairs"],
+            span_tests=counts["span_tests"],
             all_pairs=counts["all_pairs"],
             closest_points=int(selection.slave.size),
             sticking=int(np.count_nonzero((anchors.span >= 0) & ~sliding)) if friction_on else 0,
@@ -380,28 +383,46 @@ class ContactModel:
             groups=candidates.group,
             targets=targets,
         )
+        # Keep minima within the detection radius that are not adjacency along the own yarn
+        # (which includes every point's zero-distance minimum on itself).
         slave = candidates.slave[found.candidate]
         image = candidates.image[found.candidate]
-        state = kinematics(
-            slave_points[:, slave],
-            found.point + translations[image].T,
-            found.tangent,
-            found.curvature,
+        master = found.point + translations[image].T
+        distance = np.linalg.norm(slave_points[:, slave] - master, axis=0)
+        near = np.flatnonzero(distance < reach)
+        span, tau, image, slave = (
+            found.span[near],
+            found.tau[near],
+            images[image[near]],
+            slave[near],
         )
-        # Keep minima within the detection radius; a zero distance or a degenerate minimum
-        # (H <= 0) has no normal and is skipped.
-        keep = (state.distance < reach) & (state.distance > 1e-12 * radius) & (state.metric > 0)
+        strand, shift = layout.strands(layout.span_yarn[span], image)
+        arc = layout.span_arc_start[span] + tau * layout.span_arc_length[span] + shift
+        apart = (strand != self._slave_strands[slave]) | (
+            np.abs(arc - layout.point_arc[slave]) >= self.exclusion_arc_length
+        )
+        keep = near[apart]
+        state = kinematics(
+            slave_points[:, slave[apart]],
+            master[:, keep],
+            found.tangent[:, keep],
+            found.curvature[:, keep],
+        )
+        # A zero distance or a degenerate minimum (H <= 0) has no normal: skip it.
+        valid = (state.distance > 1e-12 * radius) & (state.metric > 0)
         selection = _Selection(
-            slave=slave[keep],
-            span=found.span[keep],
-            tau=found.tau[keep],
-            image=images[image[keep]],
-            state=Kinematics(*(field[..., keep] for field in state)),
+            slave=slave[apart][valid],
+            span=span[apart][valid],
+            tau=tau[apart][valid],
+            image=image[apart][valid],
+            strand=strand[apart][valid],
+            arc=arc[apart][valid],
+            state=Kinematics(*(field[..., valid] for field in state)),
         )
         counts = {
             "images": int(images.shape[0]),
             "box_pairs": candidates.box_pairs,
-            "point_pairs": int(candidates.slave.size),
+            "span_tests": int(self._groups.spans[1][candidates.group].sum()),
             "all_pairs": candidates.all_pairs,
         }
         return selection, counts, self._shifts(selection.image)
@@ -416,17 +437,6 @@ class ContactModel:
         """Curve points (3, k) at local parameters tau of spans, in the cell."""
         basis = self.layout.basis(spans, tau)
         return np.einsum("ka,kac->ck", basis, self.layout.span_points(points)[spans])
-
-    def _strand_coordinates(self, selection: _Selection):
-        """Strand keys and unwrapped arc coordinates (mm) of the selected closest points."""
-        layout = self.layout
-        key, shift = layout.strands(layout.span_yarn[selection.span], selection.image)
-        arc = (
-            layout.span_arc_start[selection.span]
-            + selection.tau * layout.span_arc_length[selection.span]
-            + shift
-        )
-        return key, arc
 
     def _trial_history(self, selection, strand, arc, anchored_rows, elastic_slip):
         """Anchors of all detected pairs: offset v - g_e (g_e = 0 where there is no friction)."""
