@@ -196,12 +196,13 @@ def _safeguarded_newton(  # noqa: PLR0917
 
 
 @njit(cache=True)
-def block_entries(blocks, slave, first, basis, rows, columns, values):  # noqa: PLR0917
+def block_entries(blocks, slave, n_points, first, basis, rows, columns, values):  # noqa: PLR0917
     """COO entries of the contact-load derivative with respect to the control points.
 
     Args:
         blocks: (4, 3, 3, k) derivative blocks of each load w.r.t. x_s, x_m, C' and x_a.
-        slave: (k,) collocation point of each load (rows 3 slave + i).
+        slave: (k,) collocation point of each load; n_points: number of collocation points
+            m (component i of point j is row i m + j).
         first: (3, k) first control point of the slave span, the master span and the anchor
             span (-1: no anchor) of each load.
         basis: (4, p+1, k) the values chaining each block to the span's control points:
@@ -231,7 +232,7 @@ def block_entries(blocks, slave, first, basis, rows, columns, values):  # noqa: 
                             )
                         else:
                             value = blocks[3, i, j, c] * basis[3, a, c]
-                        rows[count] = 3 * slave[c] + i
+                        rows[count] = i * n_points + slave[c]
                         columns[count] = column + j
                         values[count] = value
                         count += 1

@@ -138,8 +138,9 @@ class ContactResult:
         line_load: (3, m) contact force per unit length at each collocation point (N/mm).
         jacobian: (3m, 3n) sparse d line_load / d positions in COO form with repeated
             entries (summed by `.tocsr()`; map `.row`, `.col` to global equations and dofs
-            before assembling); row 3j + c is line_load[c, j], column 3i + c is
-            positions[i, c] (N/mm^2). None if not requested.
+            before assembling); row c m + j is line_load[c, j] (the C order of line_load, as
+            the rod's LineLoads), column 3i + c is positions[i, c] (N/mm^2). None if not
+            requested.
         deformation_jacobian: (3m, 4) d line_load / d (F11, F12, F21, F22) (N/mm), rows as in
             `jacobian`. None if not requested.
         contacts: the active contacts.
@@ -488,6 +489,7 @@ class ContactModel:
         count = _kernels.block_entries(
             np.ascontiguousarray(stacked),
             slave.astype(np.int64),
+            layout.n_points,
             np.ascontiguousarray(first),
             np.ascontiguousarray(basis),
             rows,
@@ -504,7 +506,7 @@ class ContactModel:
         )
         deformation = np.zeros((layout.n_points, 3, 4))
         np.add.at(deformation, slave, per_contact.reshape(-1, 3, 4))
-        return jacobian, deformation.reshape(3 * layout.n_points, 4)
+        return jacobian, deformation.transpose(1, 0, 2).reshape(3 * layout.n_points, 4)
 
     # -- input checks ---------------------------------------------------------------------------
 

@@ -142,7 +142,7 @@ def test_block_entries_match_a_dense_numpy_assembly(contacts):
     basis = rng.normal(size=(4, degree + 1, contacts))
     size = 9 * 3 * (degree + 1) * contacts
     rows, columns, values = (np.empty(size, np.int64), np.empty(size, np.int64), np.empty(size))
-    count = _kernels.block_entries(blocks, slave, first, basis, rows, columns, values)
+    count = _kernels.block_entries(blocks, slave, n_points, first, basis, rows, columns, values)
     assembled = np.zeros((3 * n_points, 3 * n_control))
     np.add.at(assembled, (rows[:count], columns[:count]), values[:count])
 
@@ -155,4 +155,5 @@ def test_block_entries_match_a_dense_numpy_assembly(contacts):
             )
             if first[2, c] >= 0:
                 expected[slave[c], :, first[2, c] + a] += blocks[3, ..., c] * basis[3, a, c]
-    np.testing.assert_allclose(assembled, expected.reshape(3 * n_points, 3 * n_control), atol=1e-13)
+    expected = expected.transpose(1, 0, 2, 3).reshape(3 * n_points, 3 * n_control)
+    np.testing.assert_allclose(assembled, expected, atol=1e-13)

@@ -17,7 +17,7 @@ STEP = 1e-7
 
 
 def loads(model, positions, deformation):
-    return model.evaluate(positions, deformation, tangent=False).line_load.T.ravel()
+    return model.evaluate(positions, deformation, tangent=False).line_load.ravel()
 
 
 def finite_difference_jacobians(model, positions, deformation):

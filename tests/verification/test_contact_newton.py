@@ -28,9 +28,10 @@ def solve(friction, target_shift, iterations=12):
     target = (basis @ scene.positions[:N] + target_shift).ravel()
     positions = scene.positions.copy()
     norms = []
+    # Residual rows point by point (3j + c); the contact Jacobian's rows are c M + j.
+    rows = (np.arange(3)[None, :] * 2 * N + np.arange(N)[:, None]).ravel()
     for _ in range(iterations):
         result = model.evaluate(positions)
-        rows = slice(0, 3 * N)
         residual = (
             SPRING * (collocation @ positions[:N].ravel() - target)
             - result.line_load[:, :N].T.ravel()
@@ -38,7 +39,7 @@ def solve(friction, target_shift, iterations=12):
         norms.append(np.linalg.norm(residual))
         if norms[-1] < 1e-14:
             break
-        jacobian = SPRING * collocation - result.jacobian.tocsr()[rows, rows]
+        jacobian = SPRING * collocation - result.jacobian.tocsr()[rows][:, : 3 * N]
         step = scipy.sparse.linalg.spsolve(jacobian.tocsc(), -residual)
         positions[:N] += step.reshape(-1, 3)
     return np.array(norms), result
