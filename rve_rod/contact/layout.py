@@ -133,19 +133,15 @@ class ContactLayout:
         span_patch: (S,) patch of each span.
         span_start, span_length: (S,) parameter interval of each span (patch parameter).
         span_basis: (S, p+1, p+1) N_a(tau) = sum_k span_basis[s, a, k] tau^k.
-        span_yarn: (S,) yarn of each span; span_chain: (S,) index of the span along its yarn.
+        span_yarn: (S,) yarn of each span.
         span_arc_start, span_arc_length: (S,) reference arc coordinate along the yarn (mm).
         span_closed_end: (S,) True for the last span of an open yarn (owns its end point).
         span_next: (S,) the next span of the same patch, -1 for a patch's last span.
-        point_span, point_tau: (m,) span and local parameter of each collocation point.
+        point_span: (m,) span of each collocation point.
         point_basis: (m, p+1) basis values of the span's control points at the point.
         point_arc: (m,) reference arc coordinate of each point along its yarn (mm).
-        slave_spans: (q,) spans holding collocation points; slave_points_start: (q+1,) their
-            points are point_order[slave_points_start[a] : slave_points_start[a+1]].
-        point_order: (m,) collocation points sorted by span.
         yarn_length: (Y,) reference length of each yarn (one period for periodic yarns, mm).
         yarn_period: (Y, 2) lattice period of each yarn ((0, 0) for open yarns).
-        yarn_spans: (Y,) number of spans of each yarn.
         collocation_weights: (m,) reference arc length represented by each collocation point
             (mm): sum_j w_j f_j integrates the spline interpolant of a line load f.
     """
@@ -158,21 +154,15 @@ class ContactLayout:
     span_length: np.ndarray
     span_basis: np.ndarray
     span_yarn: np.ndarray
-    span_chain: np.ndarray
     span_arc_start: np.ndarray
     span_arc_length: np.ndarray
     span_closed_end: np.ndarray
     span_next: np.ndarray
     point_span: np.ndarray
-    point_tau: np.ndarray
     point_basis: np.ndarray
     point_arc: np.ndarray
-    slave_spans: np.ndarray
-    slave_points_start: np.ndarray
-    point_order: np.ndarray
     yarn_length: np.ndarray
     yarn_period: np.ndarray
-    yarn_spans: np.ndarray
     collocation_weights: np.ndarray
 
     @property
@@ -287,21 +277,17 @@ def build_layout(
     span_arc_length = 0.5 * speed @ weights
 
     span_yarn = np.empty(n_spans, dtype=np.int64)
-    span_chain = np.empty(n_spans, dtype=np.int64)
     span_arc_start = np.empty(n_spans)
     span_closed_end = np.zeros(n_spans, dtype=bool)
     yarn_length = np.empty(len(yarns))
     yarn_period = np.zeros((len(yarns), 2), dtype=np.int64)
-    yarn_spans = np.empty(len(yarns), dtype=np.int64)
     for y, yarn in enumerate(yarns):
         order = np.concatenate(
             [np.arange(span_offset[k], span_offset[k + 1]) for k in yarn.patches]
         )
         span_yarn[order] = y
-        span_chain[order] = np.arange(order.size)
         span_arc_start[order] = np.concatenate([[0.0], np.cumsum(span_arc_length[order])[:-1]])
         yarn_length[y] = span_arc_length[order].sum()
-        yarn_spans[y] = order.size
         if yarn.period is None:
             span_closed_end[order[-1]] = True
         else:
@@ -322,10 +308,6 @@ def build_layout(
     point_basis = np.einsum("mab,mb->ma", span_basis[point_span], powers)
     point_arc = span_arc_start[point_span] + point_tau * span_arc_length[point_span]
 
-    point_order = np.argsort(point_span, kind="stable")
-    slave_spans, first_index = np.unique(point_span[point_order], return_index=True)
-    slave_points_start = np.append(first_index, point_span.size)
-
     weights_per_point = _collocation_weights(patches, cp_offset, span_first, span_basis, speed)
     return ContactLayout(
         degree=degree,
@@ -336,21 +318,15 @@ def build_layout(
         span_length=span_length,
         span_basis=span_basis,
         span_yarn=span_yarn,
-        span_chain=span_chain,
         span_arc_start=span_arc_start,
         span_arc_length=span_arc_length,
         span_closed_end=span_closed_end,
         span_next=_next_in_patch(span_patch),
         point_span=point_span,
-        point_tau=point_tau,
         point_basis=point_basis,
         point_arc=point_arc,
-        slave_spans=slave_spans,
-        slave_points_start=slave_points_start,
-        point_order=point_order,
         yarn_length=yarn_length,
         yarn_period=yarn_period,
-        yarn_spans=yarn_spans,
         collocation_weights=weights_per_point,
     )
 

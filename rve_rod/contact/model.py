@@ -165,16 +165,51 @@ class _Anchors(NamedTuple):
     shift: np.ndarray  # (k, 3) reference lattice shift of the anchor's image
 
 
-class _Selection(NamedTuple):
-    """Closest points of one evaluation (arrays over the detected pairs)."""
+class _SearchCounts(NamedTuple):
+    """Cost counts of one search (see ContactStatistics)."""
 
-    slave: np.ndarray
-    span: np.ndarray
-    tau: np.ndarray
+    images: int
+    box_pairs: int
+    span_tests: int
+    all_pairs: int
+
+
+class _Selection(NamedTuple):
+    """Closest points of one evaluation (arrays over the k detected pairs)."""
+
+    slave: np.ndarray  # (k,) collocation point
+    span: np.ndarray  # (k,) master span
+    tau: np.ndarray  # (k,) local parameter of the closest point
     image: np.ndarray  # (k, 2) lattice image
+    shift: np.ndarray  # (k, 3) reference lattice shift of the image
     strand: np.ndarray  # (k,) strand key of the master
     arc: np.ndarray  # (k,) unwrapped reference arc coordinate of the closest point (mm)
     state: Kinematics
+    counts: _SearchCounts
+
+    def subset(self, rows: np.ndarray) -> "_Selection":
+        """The pairs `rows` (an index array)."""
+        return _Selection(
+            slave=self.slave[rows],
+            span=self.span[rows],
+            tau=self.tau[rows],
+            image=self.image[rows],
+            shift=self.shift[rows],
+            strand=self.strand[rows],
+            arc=self.arc[rows],
+            state=Kinematics(*(field[..., rows] for field in self.state)),
+            counts=self.counts,
+        )
+
+
+class _Friction(NamedTuple):
+    """Friction of the active contacts (arrays over k active contacts)."""
+
+    load: np.ndarray  # (3, k) N/mm
+    sliding: np.ndarray  # (k,)
+    anchors: _Anchors
+    blocks: LoadBlocks  # derivative blocks (zero where there is no anchor)
+    elastic_slip: np.ndarray  # (3, k) g_e kept by the anchors (mm)
 
 
 class ContactModel:
@@ -268,80 +303,53 @@ class ContactModel:
         deformation = self._deformation(deformation_gradient)
         layout = self.layout
         slave_points = layout.collocation_positions(points)
-        selection, counts, shifts = self._closest_points(points, slave_points, deformation)
-        state = selection.state
+        detected = self._closest_points(points, slave_points, deformation)
         radius = self.law.yarn_radius
-        active = np.flatnonzero(state.distance < 2.0 * radius)
-        active_state = Kinematics(*(field[..., active] for field in state))
-        force, normal_blocks = normal_loads(active_state, self.law)
-        slave = selection.slave[active]
-        span, tau, shift = selection.span[active], selection.tau[active], shifts[active]
-        friction_load = np.zeros((3, active.size))
-        sliding = np.zeros(active.size, dtype=bool)
-        anchors = _Anchors(np.full(active.size, -1), np.zeros(active.size), np.zeros_like(shift))
+        active_rows = np.flatnonzero(detected.state.distance < 2.0 * radius)
+        active = detected.subset(active_rows)
+        force, blocks = normal_loads(active.state, self.law)
+        k = active_rows.size
+        friction_load = np.zeros((3, k))
+        sliding = np.zeros(k, dtype=bool)
+        anchors = _Anchors(np.full(k, -1), np.zeros(k), np.zeros((k, 3)))
         trial_history = None
-        blocks = normal_blocks
         if self.friction is not None:
-            strand, arc = selection.strand, selection.arc
-            history = self._history
-            anchor = match_anchors(
-                history, slave, strand[active], arc[active], self.exclusion_arc_length
-            )
-            anchored = np.flatnonzero(anchor >= 0)
-            anchor = anchor[anchored]
-            anchors.span[anchored] = history.span[anchor]
-            anchors.tau[anchored] = history.tau[anchor]
-            anchors.shift[anchored] = self._shifts(history.image[anchor])
-            anchor_points = (
-                self._span_points(points, anchors.span[anchored], anchors.tau[anchored])
-                + (anchors.shift[anchored] @ deformation.T).T
-            )
-            sub_state = Kinematics(*(field[..., anchored] for field in active_state))
-            slip_vector = (
-                slave_points[:, slave[anchored]] - anchor_points - history.offset[:, anchor]
-            )
-            slope = self.law.line_stiffness(2.0 * radius - sub_state.distance)
-            friction_state, friction_blocks = friction_loads(
-                sub_state, force[anchored], slope, slip_vector, self.friction
-            )
-            friction_load[:, anchored] = friction_state.load
-            sliding[anchored] = friction_state.sliding
-            blocks = _add_blocks(normal_blocks, friction_blocks, anchored)
-            trial_history = self._trial_history(
-                selection, strand, arc, active[anchored], friction_state.elastic_slip
-            )
+            friction = self._friction(points, slave_points, deformation, active, force)
+            friction_load, sliding, anchors = friction.load, friction.sliding, friction.anchors
+            blocks = LoadBlocks(*(a + b for a, b in zip(blocks, friction.blocks, strict=True)))
+            trial_history = self._trial_history(detected, active_rows, friction)
 
         line_load = np.zeros((layout.n_points, 3))
-        np.add.at(line_load, slave, blocks.load.T)
+        np.add.at(line_load, active.slave, blocks.load.T)
         jacobian = deformation_jacobian = None
         if tangent:
-            jacobian, deformation_jacobian = self._linearization(
-                blocks, slave, span, tau, shift, anchors=anchors
-            )
-        penetration = 2.0 * radius - active_state.distance
+            jacobian, deformation_jacobian = self._linearization(blocks, active, anchors)
+        penetration = 2.0 * radius - active.state.distance
         contacts = ActiveContacts(
-            slave=slave,
-            patch=layout.span_patch[span],
-            parameter=layout.span_start[span] + tau * layout.span_length[span],
-            image=selection.image[active],
+            slave=active.slave,
+            patch=layout.span_patch[active.span],
+            parameter=layout.span_start[active.span] + active.tau * layout.span_length[active.span],
+            image=active.image,
             penetration=penetration,
-            normal=active_state.normal,
+            normal=active.state.normal,
             normal_load=force,
             friction_load=friction_load,
             sliding=sliding,
         )
+        counts = detected.counts
+        anchored = anchors.span >= 0
         friction_on = self.friction is not None
         statistics = ContactStatistics(
-            active_contacts=int(active.size),
-            max_penetration=float(penetration.max()) if active.size else 0.0,
-            images=counts["images"],
-            box_pairs=counts["box_pairs"],
-            span_tests=counts["span_tests"],
-            all_pairs=counts["all_pairs"],
-            closest_points=int(selection.slave.size),
-            sticking=int(np.count_nonzero((anchors.span >= 0) & ~sliding)) if friction_on else 0,
+            active_contacts=int(k),
+            max_penetration=float(penetration.max()) if k else 0.0,
+            images=counts.images,
+            box_pairs=counts.box_pairs,
+            span_tests=counts.span_tests,
+            all_pairs=counts.all_pairs,
+            closest_points=int(detected.slave.size),
+            sticking=int(np.count_nonzero(anchored & ~sliding)) if friction_on else 0,
             sliding=int(np.count_nonzero(sliding)),
-            without_anchor=int(np.count_nonzero(anchors.span < 0)) if friction_on else 0,
+            without_anchor=int(np.count_nonzero(~anchored)) if friction_on else 0,
         )
         return ContactResult(
             line_load=line_load.T,
@@ -352,10 +360,47 @@ class ContactModel:
             trial_history=trial_history,
         )
 
+    def _friction(self, points, slave_points, deformation, active, normal_force) -> _Friction:
+        """Return mapping from the committed anchors; contacts without one carry no friction."""
+        history = self._history
+        k = active.slave.size
+        anchor = match_anchors(
+            history, active.slave, active.strand, active.arc, self.exclusion_arc_length
+        )
+        rows = np.flatnonzero(anchor >= 0)
+        anchor = anchor[rows]
+        anchors = _Anchors(np.full(k, -1), np.zeros(k), np.zeros((k, 3)))
+        anchors.span[rows] = history.span[anchor]
+        anchors.tau[rows] = history.tau[anchor]
+        anchors.shift[rows] = self._shifts(history.image[anchor])
+        anchor_points = (
+            self._span_points(points, anchors.span[rows], anchors.tau[rows])
+            + (anchors.shift[rows] @ deformation.T).T
+        )
+        state = Kinematics(*(field[..., rows] for field in active.state))
+        slip_vector = (
+            slave_points[:, active.slave[rows]] - anchor_points - history.offset[:, anchor]
+        )
+        slope = self.law.line_stiffness(2.0 * self.law.yarn_radius - state.distance)
+        result, blocks = friction_loads(
+            state, normal_force[rows], slope, slip_vector, self.friction
+        )
+        full = []
+        for part in blocks:
+            whole = np.zeros((*part.shape[:-1], k))
+            whole[..., rows] = part
+            full.append(whole)
+        load = full[0]
+        sliding = np.zeros(k, dtype=bool)
+        sliding[rows] = result.sliding
+        elastic_slip = np.zeros((3, k))
+        elastic_slip[:, rows] = result.elastic_slip
+        return _Friction(load, sliding, anchors, LoadBlocks(*full), elastic_slip)
+
     # -- search -------------------------------------------------------------------------------
 
-    def _closest_points(self, points, slave_points, deformation):
-        """Closest points within the detection radius: (selection, counts, lattice shifts)."""
+    def _closest_points(self, points, slave_points, deformation) -> _Selection:
+        """Distance minima within the detection radius, own-yarn adjacency excluded."""
         layout = self.layout
         radius = self.law.yarn_radius
         reach = 2.0 * radius + self.search_margin
@@ -411,22 +456,23 @@ class ContactModel:
         )
         # A zero distance or a degenerate minimum (H <= 0) has no normal: skip it.
         valid = (state.distance > 1e-12 * radius) & (state.metric > 0)
-        selection = _Selection(
+        image = image[apart][valid]
+        return _Selection(
             slave=slave[apart][valid],
             span=span[apart][valid],
             tau=tau[apart][valid],
-            image=image[apart][valid],
+            image=image,
+            shift=self._shifts(image),
             strand=strand[apart][valid],
             arc=arc[apart][valid],
             state=Kinematics(*(field[..., valid] for field in state)),
+            counts=_SearchCounts(
+                images=int(images.shape[0]),
+                box_pairs=candidates.box_pairs,
+                span_tests=int(self._groups.spans[1][candidates.group].sum()),
+                all_pairs=candidates.all_pairs,
+            ),
         )
-        counts = {
-            "images": int(images.shape[0]),
-            "box_pairs": candidates.box_pairs,
-            "span_tests": int(self._groups.spans[1][candidates.group].sum()),
-            "all_pairs": candidates.all_pairs,
-        }
-        return selection, counts, self._shifts(selection.image)
 
     def _shifts(self, images: np.ndarray) -> np.ndarray:
         """Reference lattice shifts (k, 3) of images (k, 2); zeros without a lattice."""
@@ -439,29 +485,30 @@ class ContactModel:
         basis = self.layout.basis(spans, tau)
         return np.einsum("ka,kac->ck", basis, self.layout.span_points(points)[spans])
 
-    def _trial_history(self, selection, strand, arc, anchored_rows, elastic_slip):
+    def _trial_history(self, detected: _Selection, active_rows, friction: _Friction):
         """Anchors of all detected pairs: offset v - g_e (g_e = 0 where there is no friction)."""
-        offset = selection.state.gap_vector.copy()
-        offset[:, anchored_rows] -= elastic_slip
+        offset = detected.state.gap_vector.copy()
+        offset[:, active_rows] -= friction.elastic_slip
         return FrictionHistory(
-            slave=selection.slave,
-            strand=strand,
-            arc=arc,
-            span=selection.span,
-            tau=selection.tau,
-            image=selection.image,
+            slave=detected.slave,
+            strand=detected.strand,
+            arc=detected.arc,
+            span=detected.span,
+            tau=detected.tau,
+            image=detected.image,
             offset=offset,
         )
 
     # -- linearization --------------------------------------------------------------------------
 
-    def _linearization(self, blocks, slave, span, tau, shift, *, anchors):
+    def _linearization(self, blocks: LoadBlocks, active: _Selection, anchors: _Anchors):
         """Sparse d load / d positions and dense d load / d F from the 3x3 derivative blocks.
 
         A load at slave point j depends on the control points a of its own span through
         x_s = sum_a N_a(tau_j) P_a, on those of the master span through x_m = sum_b N_b P_b + F L
         and C' = sum_b N_b' P_b, and on the anchor span's through x_a = sum_c N_c P_c + F L_a.
         """
+        slave, span, tau, shift = active.slave, active.span, active.tau, active.shift
         layout = self.layout
         anchored = anchors.span >= 0
         first = np.stack(
@@ -531,13 +578,3 @@ class ContactModel:
                 f"deformation_gradient must be a finite (3, 3) array, got {deformation.shape}"
             )
         return deformation
-
-
-def _add_blocks(total: LoadBlocks, part: LoadBlocks, rows: np.ndarray) -> LoadBlocks:
-    """total + part, where part holds the contacts `rows` of total only."""
-    fields = []
-    for whole, piece in zip(total, part, strict=True):
-        combined = whole.copy()
-        combined[..., rows] += piece
-        fields.append(combined)
-    return LoadBlocks(*fields)
