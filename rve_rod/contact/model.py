@@ -351,6 +351,14 @@ class ContactModel:
             sliding=int(np.count_nonzero(sliding)),
             without_anchor=int(np.count_nonzero(~anchored)) if friction_on else 0,
         )
+        logger.debug(
+            "contact: %d active (%d sliding), max penetration %.3g mm, %d span tests of %d",
+            statistics.active_contacts,
+            statistics.sliding,
+            statistics.max_penetration,
+            statistics.span_tests,
+            statistics.all_pairs,
+        )
         return ContactResult(
             line_load=line_load.T,
             jacobian=jacobian,
