@@ -15,6 +15,7 @@ from rve_rod.rod.conditions import (
     Joint,
     Offset,
     Pin,
+    PointSupport,
 )
 from rve_rod.rod.frames import quaternions_from_frames, reference_quaternions
 from rve_rod.rod.layout import END, START, DofLayout, RodEnd
@@ -48,6 +49,7 @@ __all__ = [
     "Offset",
     "Pin",
     "PointLoad",
+    "PointSupport",
     "RodEnd",
     "RodModel",
     "RodPatch",

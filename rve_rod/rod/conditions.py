@@ -21,8 +21,9 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from rve_rod.errors import InputError
+from rve_rod.geometry.bspline import basis_functions
 from rve_rod.rod import quaternion
-from rve_rod.rod.layout import END, START, DofLayout, RodEnd
+from rve_rod.rod.layout import DOFS_PER_POINT, END, START, DofLayout, RodEnd
 
 if TYPE_CHECKING:
     from rve_rod.rod.model import RodModel
@@ -379,6 +380,119 @@ class Joint(Condition):
                 np.hstack([a.d_moment, -b.d_moment]),
             )
         )
+        return blocks
+
+
+@dataclass(frozen=True, eq=False)
+class PointSupport(Condition):
+    """Holds the centreline point at parameter u* of a patch at its reference position, and
+    optionally its rotation about given spatial axes, with Lagrange multipliers among the
+    extra unknowns.
+
+    The multipliers are the support reaction: a force (and moments about the axes) applied to
+    the rod at u*, lumped onto the collocation points like a `loads.PointLoad`. Use it to
+    remove rigid modes and nothing else: e.g. a periodic cell whose ends are linked by a
+    Joint with an offset has the three translations and the rotation about the period vector
+    as rigid modes, so it needs `rotation_axes=(period,)`. Holding a rotation that is not a
+    rigid mode over-constrains the rod, and the reaction moment shows it. When the other
+    loads are in equilibrium the reaction is zero up to the discretization error.
+
+    Attributes:
+        patch: patch index.
+        parameter: u* in the patch's parameter domain.
+        first_unknown: index among the extra unknowns of the first multiplier: three for the
+            reaction force, then one per rotation axis for the reaction moment.
+        rotation_axes: spatial axes (each 3 numbers) about which the frame at u* is held.
+    """
+
+    patch: int
+    parameter: float
+    first_unknown: int = 0
+    rotation_axes: tuple = ()
+
+    def __post_init__(self):
+        axes = np.array([_vector("rotation axis", axis) for axis in self.rotation_axes])
+        axes = axes.reshape(-1, 3)
+        lengths = np.linalg.norm(axes, axis=1)
+        if np.any(lengths == 0.0):
+            raise InputError("rotation_axes must be nonzero vectors")
+        object.__setattr__(self, "rotation_axes", tuple(axes / lengths[:, None]))
+
+    @property
+    def ends(self) -> tuple[RodEnd, ...]:
+        return ()
+
+    @property
+    def extra_equations(self) -> int:  # type: ignore[override]
+        return 3 + len(self.rotation_axes)
+
+    def row_scales(self, length: float, force: float) -> np.ndarray:
+        return np.array([length] * 3 + [1.0] * len(self.rotation_axes))
+
+    def evaluate(self, context: ConditionContext, load_factor: float) -> list[Block]:
+        model = context.model
+        layout = model.layout
+        state = context.state
+        multipliers = layout.extra_offset + self.first_unknown + np.arange(self.extra_equations)
+        if self.first_unknown < 0 or multipliers[-1] >= layout.n_dofs:
+            raise InputError(
+                f"first_unknown={self.first_unknown} leaves no room for "
+                f"{self.extra_equations} multipliers among {layout.n_extra} extra unknowns"
+            )
+        curve = model.patches[self.patch].centreline
+        basis = basis_functions(curve.knots, curve.degree, np.array([float(self.parameter)]))
+        local = basis.spans[0] - curve.degree + np.arange(curve.degree + 1)
+        values = basis.values[0, 0]
+        position_columns = layout.position_dofs(self.patch)[local]  # (p+1, 3)
+        points, weights = model.point_load_weights(self.patch, self.parameter)
+        reference_position = values @ curve.control_points[local]
+        rows = context.rows
+        blocks = []
+        for c in range(3):
+            blocks.append(
+                Block(
+                    rows[c : c + 1],
+                    np.array([values @ state[position_columns[:, c]] - reference_position[c]]),
+                    position_columns[:, c],
+                    values[None, :],
+                )
+            )
+            # reaction force component c, lumped onto the force rows
+            blocks.append(
+                Block(
+                    DOFS_PER_POINT * points + c,
+                    weights * state[multipliers[c]],
+                    multipliers[c : c + 1],
+                    weights[:, None],
+                )
+            )
+        if not self.rotation_axes:
+            return blocks
+        quaternion_columns = layout.quaternion_dofs(self.patch)[local]  # (p+1, 4)
+        reference = values @ model.patches[self.patch].quaternions[local]
+        reference = reference / np.linalg.norm(reference)
+        # spatial small-rotation error R0 vec(conj(q0) q) (half angle times axis), linear in q
+        error = quaternion.rotation_matrix(reference) @ _rotation_error_matrix(reference)
+        current = values @ state[quaternion_columns]
+        for i, axis in enumerate(self.rotation_axes):
+            row_error = axis @ error  # (4,)
+            blocks.append(
+                Block(
+                    rows[3 + i : 4 + i],
+                    np.array([row_error @ current]),
+                    quaternion_columns.ravel(),
+                    (values[:, None] * row_error[None, :]).reshape(1, -1),
+                )
+            )
+            for c in range(3):
+                blocks.append(
+                    Block(
+                        DOFS_PER_POINT * points + 3 + c,
+                        weights * axis[c] * state[multipliers[3 + i]],
+                        multipliers[3 + i : 4 + i],
+                        (weights * axis[c])[:, None],
+                    )
+                )
         return blocks
 
 

@@ -23,6 +23,7 @@ from rve_rod.rod import (
     Offset,
     Pin,
     PointLoad,
+    PointSupport,
     RodEnd,
     RodModel,
     RodPatch,
@@ -98,9 +99,8 @@ class AxialForceControl(Condition):
         ]
 
 
-def stretch_offset(model, lattice):
-    """Offset x_second - x_first = (1 + extra_0) * lattice for a periodic joint."""
-    index = model.layout.extra_offset
+def stretch_offset(index, lattice):
+    """Offset x_second - x_first = (1 + state[index]) * lattice for a periodic joint."""
 
     def offset(state, load_factor):
         return Offset((1.0 + state[index]) * lattice, np.array([index]), lattice[:, None])
@@ -137,33 +137,14 @@ def periodic_model():
     pieces = helix_pieces(2)
     patches = twisted_patches(pieces, SECTION, twist=-0.4)
     lattice = pieces[0].control_points[0] - pieces[1].control_points[-1]
-    placeholder = [Joint(RodEnd(0, END), RodEnd(1, START))]
-    probe = RodModel(
-        patches,
-        [*placeholder, Joint(RodEnd(1, END), RodEnd(0, START)), _NoEquation()],
-        extra_unknowns=1,
-    )
+    stretch = 7 * sum(patch.n_control_points for patch in patches)  # extra unknown 0
     conditions = [
-        *placeholder,
-        Joint(RodEnd(1, END), RodEnd(0, START), offset=stretch_offset(probe, lattice)),
+        Joint(RodEnd(0, END), RodEnd(1, START)),
+        Joint(RodEnd(1, END), RodEnd(0, START), offset=stretch_offset(stretch, lattice)),
         AxialForceControl(RodEnd(0, START), np.array([0.0, 0.0, 1.0]), 0.03),
+        PointSupport(1, 0.4, first_unknown=1, rotation_axes=([0.0, 0.0, 2.0], [1.0, 1.0, 0.0])),
     ]
-    return RodModel(patches, conditions, extra_unknowns=1, extra_state_scale=0.1)
-
-
-@dataclass(frozen=True, eq=False)
-class _NoEquation(Condition):
-    """Closes an extra unknown with the equation extra = 0 (for building a probe model)."""
-
-    extra_equations = 1
-
-    @property
-    def ends(self):
-        return ()
-
-    def evaluate(self, context, load_factor):
-        index = context.model.layout.extra_offset
-        return [Block(context.rows, context.state[[index]], np.array([index]), np.ones((1, 1)))]
+    return RodModel(patches, conditions, extra_unknowns=6, extra_state_scale=0.1)
 
 
 def perturbed_state(model, rng, size=0.05):
