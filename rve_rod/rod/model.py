@@ -153,6 +153,17 @@ class Evaluation(NamedTuple):
     section: SectionForces
 
 
+class _EndConstant(NamedTuple):
+    """The state-independent parts of the EndValues at one end collocation point."""
+
+    columns: np.ndarray
+    d_position: np.ndarray
+    d_quaternion: np.ndarray
+    reference_position: np.ndarray
+    reference_quaternion: np.ndarray
+    position_indices: np.ndarray  # (p+1, 3) state indices of the acting control points
+
+
 class _Pattern(NamedTuple):
     """Fixed CSR pattern and the data positions of every contribution."""
 
@@ -160,6 +171,7 @@ class _Pattern(NamedTuple):
     indptr: np.ndarray
     interior: np.ndarray  # (7, 7, p+1, M) data positions, -1 for end rows
     conditions: list  # per condition: list of (r*c,) data positions per block
+    condition_positions: np.ndarray  # all of `conditions` concatenated in order
 
 
 class RodModel:
@@ -248,6 +260,11 @@ class RodModel:
             np.asarray(extra_state_scale, dtype=float), (self.layout.n_extra,)
         ).copy()
         self._reference_state = self.reference_state()
+        self._end_constants = {
+            point: self._end_constant(point)
+            for k in range(len(self.patches))
+            for point in (self.layout.points(k)[0], self.layout.points(k)[-1])
+        }
         self._pattern = self._build_pattern()
 
     # ----------------------------------------------------------------------------- layout --
@@ -361,6 +378,11 @@ class RodModel:
         data = np.zeros(self._pattern.indices.size) if with_jacobian else None
         if with_jacobian:
             _kernels.scatter_jacobian(d_residual, self._basis, self._pattern.interior, data)
+        residual_rows, residual_values, data_values = (
+            [np.empty(0, np.int64)],
+            [np.empty(0)],
+            [np.empty(0)],
+        )
         for condition, rows, positions in zip(
             self.conditions, self._condition_rows, self._pattern.conditions, strict=True
         ):
@@ -374,16 +396,19 @@ class RodModel:
                     f"{len(positions)} when the model was built"
                 )
             for block, where in zip(blocks, positions, strict=True):
-                np.add.at(residual, block.rows, block.residual)
+                residual_rows.append(block.rows)
+                residual_values.append(block.residual)
                 if with_jacobian:
                     values = np.asarray(block.jacobian, dtype=float).ravel()
                     if values.size != where.size:
                         raise RuntimeError(
                             f"condition {condition!r} changed the shape of a Jacobian block"
                         )
-                    np.add.at(data, where, values)
+                    data_values.append(values)
+        np.add.at(residual, np.concatenate(residual_rows), np.concatenate(residual_values))
         jacobian = None
         if with_jacobian:
+            np.add.at(data, self._pattern.condition_positions, np.concatenate(data_values))
             jacobian = scipy.sparse.csr_matrix(
                 (data, self._pattern.indices, self._pattern.indptr),
                 shape=(self.n_dofs, self.n_dofs),
@@ -547,6 +572,25 @@ class RodModel:
     def _end_values(self, point, state, *, kin, section, d_section) -> EndValues:
         """EndValues at collocation `point` from its local variables (18,), section forces
         (6,) and their local derivatives (6, 18)."""
+        constant = self._end_constants[point]
+        basis = self._basis[:, :, point]
+        chained = _chain_basis(d_section, basis)
+        return EndValues(
+            columns=constant.columns,
+            position=basis[0] @ state[constant.position_indices],
+            d_position=constant.d_position,
+            quaternion=kin[6:10].copy(),
+            d_quaternion=constant.d_quaternion,
+            force=section[:3].copy(),
+            d_force=chained[:3],
+            moment=section[3:].copy(),
+            d_moment=chained[3:],
+            reference_position=constant.reference_position,
+            reference_quaternion=constant.reference_quaternion,
+        )
+
+    def _end_constant(self, point: int) -> _EndConstant:
+        """The state-independent parts of the EndValues at an end collocation point."""
         width = self.degree + 1
         basis = self._basis[:, :, point]
         local = self._first[point] + np.arange(width)
@@ -557,25 +601,16 @@ class RodModel:
             d_position[c, :, c] = basis[0]
         for c in range(4):
             d_quaternion[c, :, 3 + c] = basis[0]
-        chained = _chain_basis(d_section, basis)
-        positions = state[DOFS_PER_POINT * local[:, None] + np.arange(3)[None, :]]
         reference = self._reference_state
-        reference_positions = reference[DOFS_PER_POINT * local[:, None] + np.arange(3)[None, :]]
-        reference_quaternions = reference[
-            DOFS_PER_POINT * local[:, None] + 3 + np.arange(4)[None, :]
-        ]
-        return EndValues(
+        position_indices = DOFS_PER_POINT * local[:, None] + np.arange(3)[None, :]
+        quaternion_indices = DOFS_PER_POINT * local[:, None] + 3 + np.arange(4)[None, :]
+        return _EndConstant(
             columns=columns,
-            position=basis[0] @ positions,
             d_position=d_position.reshape(3, -1),
-            quaternion=kin[6:10].copy(),
             d_quaternion=d_quaternion.reshape(4, -1),
-            force=section[:3].copy(),
-            d_force=chained[:3],
-            moment=section[3:].copy(),
-            d_moment=chained[3:],
-            reference_position=basis[0] @ reference_positions,
-            reference_quaternion=basis[0] @ reference_quaternions,
+            reference_position=basis[0] @ reference[position_indices],
+            reference_quaternion=basis[0] @ reference[quaternion_indices],
+            position_indices=position_indices,
         )
 
     def _context(self, condition, rows, state, *, kin, section, d_section) -> ConditionContext:
@@ -657,7 +692,10 @@ class RodModel:
                 f"the system has {empty_rows.size} empty rows (first: {empty_rows[0]}); "
                 "every extra unknown needs an equation"
             )
-        return _Pattern(indices, indptr, interior, positions)
+        flat = [where for per_condition in positions for where in per_condition]
+        return _Pattern(
+            indices, indptr, interior, positions, np.concatenate([np.empty(0, np.int64), *flat])
+        )
 
 
 def _checked_block(block: Block, n_dofs: int, condition) -> Block:
@@ -678,13 +716,9 @@ def _checked_block(block: Block, n_dofs: int, condition) -> Block:
 def _chain_basis(d_local: np.ndarray, basis: np.ndarray) -> np.ndarray:
     """Derivatives (r, 18) w.r.t. local variables -> (r, 7(p+1)) w.r.t. control dofs, given
     the basis values (3, p+1) at the point (the NumPy twin of `_kernels.scatter_jacobian`)."""
-    width = basis.shape[1]
-    out = np.empty((d_local.shape[0], width, DOFS_PER_POINT))
-    for a in range(width):
-        out[:, a, :3] = d_local[:, 0:3] * basis[1, a] + d_local[:, 3:6] * basis[2, a]
-        out[:, a, 3:] = (
-            d_local[:, 6:10] * basis[0, a]
-            + d_local[:, 10:14] * basis[1, a]
-            + d_local[:, 14:18] * basis[2, a]
-        )
-    return out.reshape(d_local.shape[0], -1)
+    rows = d_local.shape[0]
+    out = np.empty((rows, basis.shape[1], DOFS_PER_POINT))
+    # positions enter through r' and r''; quaternions through q, q' and q''
+    out[:, :, :3] = np.einsum("rkc,ka->rac", d_local[:, 0:6].reshape(rows, 2, 3), basis[1:])
+    out[:, :, 3:] = np.einsum("rkc,ka->rac", d_local[:, 6:18].reshape(rows, 3, 4), basis)
+    return out.reshape(rows, -1)

@@ -28,11 +28,17 @@ def conjugate(q: np.ndarray) -> np.ndarray:
 def multiply(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     """Hamilton product p * q, shape (..., 4); R(p * q) = R(p) R(q)."""
     p, q = np.asarray(p), np.asarray(q)
-    p0, pv = p[..., :1], p[..., 1:]
-    q0, qv = q[..., :1], q[..., 1:]
-    scalar = p0 * q0 - np.sum(pv * qv, axis=-1, keepdims=True)
-    vector = p0 * qv + q0 * pv + np.cross(pv, qv)
-    return np.concatenate([scalar, vector], axis=-1)
+    p0, p1, p2, p3 = p[..., 0], p[..., 1], p[..., 2], p[..., 3]
+    q0, q1, q2, q3 = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    return np.stack(
+        [
+            p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3,
+            p0 * q1 + p1 * q0 + p2 * q3 - p3 * q2,
+            p0 * q2 + p2 * q0 + p3 * q1 - p1 * q3,
+            p0 * q3 + p3 * q0 + p1 * q2 - p2 * q1,
+        ],
+        axis=-1,
+    )
 
 
 def left_matrix(p: np.ndarray) -> np.ndarray:
