@@ -73,6 +73,24 @@ def test_straight_rod_in_tension_is_exact(degree):
     np.testing.assert_allclose(sections.force[0], force, rtol=1e-12)
 
 
+def test_prescribed_end_rotation_twists_the_rod_uniformly():
+    # Rotation control: the END is turned by pi about the axis; torque = GJ pi / L exactly,
+    # the centreline stays straight and every section is turned by pi s / L.
+    section = SectionStiffness.circular(0.3, 200.0)
+    patches = RodPatch.chain([straight(LENGTH, 4, 16)], section, initial_normal=OUT_OF_PLANE)
+    conditions = [Clamp(RodEnd(0, START)), Clamp(RodEnd(0, END), rotation=(np.pi, 0, 0))]
+    model = RodModel(patches, conditions)
+    result = solve_path(model.problem(), model.reference_state(), [0.5, 1.0])
+    torque = model.evaluate(result.final_state).section.moment[0]
+    np.testing.assert_allclose(torque, section.torsion * np.pi / LENGTH, rtol=1e-6)
+    params = np.linspace(0, 1, 21)
+    positions = model.positions(result.final_state, 0, params)
+    np.testing.assert_allclose(positions, np.outer(params, [LENGTH, 0, 0]), atol=1e-9 * LENGTH)
+    d1 = model.rotations(result.final_state, 0, params)[:, :, 0]
+    angle = np.pi * params
+    np.testing.assert_allclose(d1[:, 1:], np.stack([-np.sin(angle), np.cos(angle)], 1), atol=1e-6)
+
+
 def tip_loaded_cantilever(radius=0.2, load_parameter=3.0, degree=4, n=32):
     """Straight cantilever along x under a dead tip load -P e_y with P L^2 / EI given."""
     section = SectionStiffness.circular(radius, 1000.0)
@@ -138,7 +156,7 @@ def test_tip_loaded_cantilever_matches_shooting_elastica():
 # (degree, control-point counts, expected order): Greville collocation converges at order p
 # for even p and p - 1 for odd p.
 CIRCLE_CASES = [(2, [32, 64, 128, 256], 2.0), (3, [32, 64, 128, 256], 2.0), (4, [24, 48, 96], 4.0)]
-CIRCLE_FINEST_ERROR = {2: 0.05, 3: 0.04, 4: 2e-5}  # max position error / L at the finest n
+CIRCLE_FINEST_ERROR = {2: 5e-3, 3: 2e-3, 4: 1.5e-6}  # max position error / L at the finest n
 
 
 @pytest.mark.parametrize(("degree", "counts", "order"), CIRCLE_CASES)
