@@ -85,7 +85,8 @@ def main():
                 rate = ""
                 if points:
                     previous_n, previous_error = points[-1]
-                    rate = f"{np.log(previous_error / error) / np.log((n - degree) / (previous_n - degree)):.2f}"
+                    spans = (n - degree) / (previous_n - degree)
+                    rate = f"{np.log(previous_error / error) / np.log(spans):.2f}"
                 points.append((n, error))
                 print(
                     f"{degree:>3} {n:>5} {error:>10.2e} {rate:>6} {iterations:>11} {seconds:>9.2f}"

@@ -1,9 +1,19 @@
-"""Test geometries for the rod engine: straight rods, circular arcs, helices, twisted frames."""
+"""Test geometries for the rod engine (straight rods, circular arcs, helices, twisted frames)
+and a user-defined condition as the knit RVE will write them."""
+
+from dataclasses import dataclass
 
 import numpy as np
 
 from rve_rod.geometry.bspline import BSplineCurve, basis_matrix, open_knot_vector
-from rve_rod.rod import RodPatch, quaternions_from_frames, reference_quaternions
+from rve_rod.rod import (
+    Block,
+    Condition,
+    RodEnd,
+    RodPatch,
+    quaternions_from_frames,
+    reference_quaternions,
+)
 from rve_rod.rod.quaternion import from_rotation_vector, rotation_matrix
 
 
@@ -61,3 +71,28 @@ def twisted_patches(curves, section, twist):
         patches.append(RodPatch(curve, twisted, section))
         previous = twisted[-1]
     return patches
+
+
+@dataclass(frozen=True, eq=False)
+class ForceControl(Condition):
+    """The equation of the stretch unknown: the force carried through the periodic joint,
+    along `direction`, equals t * target (N)."""
+
+    end: RodEnd
+    direction: np.ndarray
+    target: float
+    extra_equations = 1
+
+    @property
+    def ends(self):
+        return ()
+
+    def row_scales(self, length, force):
+        return np.array([force])
+
+    def evaluate(self, context, load_factor):
+        values = context.model.end_values(context.state, self.end)
+        residual = np.array([self.direction @ values.force - load_factor * self.target])
+        return [
+            Block(context.rows, residual, values.columns, (self.direction @ values.d_force)[None])
+        ]

@@ -112,7 +112,8 @@ class Condition(ABC):
         return np.ones(6 * len(self.ends) + self.extra_equations)
 
 
-def _vector(name: str, value) -> np.ndarray:
+def as_vector(name: str, value) -> np.ndarray:
+    """`value` as a float array of shape (3,), or InputError naming `name`."""
     array = np.asarray(value, dtype=float)
     if array.shape != (3,) or not np.all(np.isfinite(array)):
         raise InputError(f"{name}={value!r} must be three finite numbers")
@@ -131,8 +132,41 @@ def _rotation_error_matrix(target: np.ndarray) -> np.ndarray:
     return quaternion.left_matrix(quaternion.conjugate(target))[1:]
 
 
+def _position_block(rows, values: EndValues, target: np.ndarray) -> Block:
+    """x(end) - target = 0."""
+    return Block(rows, values.position - target, values.columns, values.d_position)
+
+
+def _force_block(rows, values: EndValues, applied: np.ndarray) -> Block:
+    """n(end) - applied = 0."""
+    return Block(rows, values.force - applied, values.columns, values.d_force)
+
+
+def _moment_block(rows, values: EndValues, applied: np.ndarray) -> Block:
+    """m(end) - applied = 0."""
+    return Block(rows, values.moment - applied, values.columns, values.d_moment)
+
+
 @dataclass(frozen=True, eq=False)
-class Clamp(Condition):
+class EndCondition(Condition):
+    """Base of the conditions that fill the six rows of a single rod end.
+
+    Attributes:
+        end: the rod end.
+    """
+
+    end: RodEnd
+
+    def __post_init__(self):
+        _side_sign(self.end)
+
+    @property
+    def ends(self) -> tuple[RodEnd, ...]:
+        return (self.end,)
+
+
+@dataclass(frozen=True, eq=False)
+class Clamp(EndCondition):
     """Prescribed position and rotation of a rod end (Dirichlet).
 
     At load factor t the end sits at x_ref + t * displacement and its frame is the reference
@@ -144,18 +178,13 @@ class Clamp(Condition):
         rotation: (3,) end rotation vector at t = 1 (rad).
     """
 
-    end: RodEnd
     displacement: np.ndarray = field(default_factory=lambda: np.zeros(3))
     rotation: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
     def __post_init__(self):
-        object.__setattr__(self, "displacement", _vector("displacement", self.displacement))
-        object.__setattr__(self, "rotation", _vector("rotation", self.rotation))
-        _side_sign(self.end)
-
-    @property
-    def ends(self) -> tuple[RodEnd, ...]:
-        return (self.end,)
+        super().__post_init__()
+        object.__setattr__(self, "displacement", as_vector("displacement", self.displacement))
+        object.__setattr__(self, "rotation", as_vector("rotation", self.rotation))
 
     def row_scales(self, length: float, force: float) -> np.ndarray:
         return np.array([length] * 3 + [1.0] * 3)
@@ -170,7 +199,7 @@ class Clamp(Condition):
         )
         error = _rotation_error_matrix(target)
         return [
-            Block(rows[:3], values.position - target_position, values.columns, values.d_position),
+            _position_block(rows[:3], values, target_position),
             Block(
                 rows[3:6], error @ values.quaternion, values.columns, error @ values.d_quaternion
             ),
@@ -178,7 +207,7 @@ class Clamp(Condition):
 
 
 @dataclass(frozen=True, eq=False)
-class EndLoad(Condition):
+class EndLoad(EndCondition):
     """Prescribed (dead) force and moment on a rod end (Neumann); zero values: a free end.
 
     At the END side the internal force equals the applied force, n = t F; at the START side
@@ -190,18 +219,13 @@ class EndLoad(Condition):
         moment: (3,) moment at t = 1 (N mm), fixed direction.
     """
 
-    end: RodEnd
     force: np.ndarray = field(default_factory=lambda: np.zeros(3))
     moment: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
     def __post_init__(self):
-        object.__setattr__(self, "force", _vector("force", self.force))
-        object.__setattr__(self, "moment", _vector("moment", self.moment))
-        _side_sign(self.end)
-
-    @property
-    def ends(self) -> tuple[RodEnd, ...]:
-        return (self.end,)
+        super().__post_init__()
+        object.__setattr__(self, "force", as_vector("force", self.force))
+        object.__setattr__(self, "moment", as_vector("moment", self.moment))
 
     def row_scales(self, length: float, force: float) -> np.ndarray:
         return np.array([force] * 3 + [force * length] * 3)
@@ -211,23 +235,13 @@ class EndLoad(Condition):
         rows = context.rows
         sign = _side_sign(self.end)
         return [
-            Block(
-                rows[:3],
-                values.force - sign * load_factor * self.force,
-                values.columns,
-                values.d_force,
-            ),
-            Block(
-                rows[3:6],
-                values.moment - sign * load_factor * self.moment,
-                values.columns,
-                values.d_moment,
-            ),
+            _force_block(rows[:3], values, sign * load_factor * self.force),
+            _moment_block(rows[3:6], values, sign * load_factor * self.moment),
         ]
 
 
 @dataclass(frozen=True, eq=False)
-class Pin(Condition):
+class Pin(EndCondition):
     """Prescribed position and (dead) moment of a rod end: a ball joint.
 
     Attributes:
@@ -236,18 +250,13 @@ class Pin(Condition):
         moment: (3,) moment applied at the end at t = 1 (N mm), as in EndLoad.
     """
 
-    end: RodEnd
     displacement: np.ndarray = field(default_factory=lambda: np.zeros(3))
     moment: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
     def __post_init__(self):
-        object.__setattr__(self, "displacement", _vector("displacement", self.displacement))
-        object.__setattr__(self, "moment", _vector("moment", self.moment))
-        _side_sign(self.end)
-
-    @property
-    def ends(self) -> tuple[RodEnd, ...]:
-        return (self.end,)
+        super().__post_init__()
+        object.__setattr__(self, "displacement", as_vector("displacement", self.displacement))
+        object.__setattr__(self, "moment", as_vector("moment", self.moment))
 
     def row_scales(self, length: float, force: float) -> np.ndarray:
         return np.array([length] * 3 + [force * length] * 3)
@@ -258,13 +267,8 @@ class Pin(Condition):
         target = values.reference_position + load_factor * self.displacement
         sign = _side_sign(self.end)
         return [
-            Block(rows[:3], values.position - target, values.columns, values.d_position),
-            Block(
-                rows[3:6],
-                values.moment - sign * load_factor * self.moment,
-                values.columns,
-                values.d_moment,
-            ),
+            _position_block(rows[:3], values, target),
+            _moment_block(rows[3:6], values, sign * load_factor * self.moment),
         ]
 
 
@@ -319,8 +323,8 @@ class Joint(Condition):
                 f"a Joint links an {END!r} side to a {START!r} side; got "
                 f"first={self.first}, second={self.second}"
             )
-        object.__setattr__(self, "force", _vector("force", self.force))
-        object.__setattr__(self, "moment", _vector("moment", self.moment))
+        object.__setattr__(self, "force", as_vector("force", self.force))
+        object.__setattr__(self, "moment", as_vector("moment", self.moment))
 
     @property
     def ends(self) -> tuple[RodEnd, ...]:
@@ -411,7 +415,7 @@ class PointSupport(Condition):
     rotation_axes: tuple = ()
 
     def __post_init__(self):
-        axes = np.array([_vector("rotation axis", axis) for axis in self.rotation_axes])
+        axes = np.array([as_vector("rotation axis", axis) for axis in self.rotation_axes])
         axes = axes.reshape(-1, 3)
         lengths = np.linalg.norm(axes, axis=1)
         if np.any(lengths == 0.0):

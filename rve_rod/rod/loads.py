@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, NamedTuple, Protocol
 import numpy as np
 import scipy.sparse
 
-from rve_rod.errors import InputError
+from rve_rod.rod.conditions import as_vector
 
 if TYPE_CHECKING:
     from rve_rod.rod.model import RodModel
@@ -50,13 +50,6 @@ class StateDependentLoad(Protocol):
         """Line loads (and their state derivatives) at `state` and `load_factor`."""
 
 
-def _vector(name: str, value) -> np.ndarray:
-    array = np.asarray(value, dtype=float)
-    if array.shape != (3,) or not np.all(np.isfinite(array)):
-        raise InputError(f"{name}={value!r} must be three finite numbers")
-    return array
-
-
 @dataclass(frozen=True, eq=False)
 class DistributedLoad:
     """A uniform dead line load, scaled by the load factor.
@@ -72,8 +65,8 @@ class DistributedLoad:
     patches: tuple[int, ...] | None = None
 
     def __post_init__(self):
-        object.__setattr__(self, "force", _vector("force", self.force))
-        object.__setattr__(self, "moment", _vector("moment", self.moment))
+        object.__setattr__(self, "force", as_vector("force", self.force))
+        object.__setattr__(self, "moment", as_vector("moment", self.moment))
 
     def line_loads(self, model: "RodModel") -> np.ndarray:
         """(6, M) force and moment at the collocation points at t = 1."""
@@ -104,8 +97,8 @@ class PointLoad:
     moment: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
     def __post_init__(self):
-        object.__setattr__(self, "force", _vector("force", self.force))
-        object.__setattr__(self, "moment", _vector("moment", self.moment))
+        object.__setattr__(self, "force", as_vector("force", self.force))
+        object.__setattr__(self, "moment", as_vector("moment", self.moment))
 
     def line_loads(self, model: "RodModel") -> np.ndarray:
         """(6, M) force and moment at the collocation points at t = 1."""

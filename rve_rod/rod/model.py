@@ -164,6 +164,16 @@ class _EndConstant(NamedTuple):
     position_indices: np.ndarray  # (p+1, 3) state indices of the acting control points
 
 
+class _Local(NamedTuple):
+    """Kernel outputs at collocation points (see `_kernels.collocation_equations`)."""
+
+    kinematics: np.ndarray  # (18, m)
+    residual: np.ndarray  # (7, m)
+    section: np.ndarray  # (6, m)
+    d_residual: np.ndarray  # (7, 18, m)
+    d_section: np.ndarray  # (6, 18, m)
+
+
 class _Pattern(NamedTuple):
     """Fixed CSR pattern and the data positions of every contribution."""
 
@@ -255,7 +265,6 @@ class RodModel:
         self._load_operator = self._line_load_operator()
         self._condition_rows = self._assign_condition_rows()
         self._dead = sum((load.line_loads(self) for load in self._dead_loads), np.zeros((6, m)))
-        self._kinematics = np.empty((18, m))
         self._extra_scale = np.broadcast_to(
             np.asarray(extra_state_scale, dtype=float), (self.layout.n_extra,)
         ).copy()
@@ -342,24 +351,9 @@ class RodModel:
         state = np.asarray(state, dtype=float)
         if state.shape != (self.n_dofs,):
             raise InputError(f"state has shape {state.shape}; expected ({self.n_dofs},)")
-        m = self.n_collocation
-        control = np.ascontiguousarray(state[: DOFS_PER_POINT * m].reshape(m, DOFS_PER_POINT).T)
-        kin = self._kinematics
-        _kernels.gather_kinematics(control, self._first, self._basis, kin)
-        local_residual = np.empty((7, m))
-        section = np.empty((6, m))
-        d_residual = np.zeros((7, 18, m))
-        d_section = np.zeros((6, 18, m))
-        _kernels.collocation_equations(
-            kin,
-            self._reference,
-            self._stiffness,
-            with_jacobian,
-            local_residual,
-            section,
-            d_residual,
-            d_section,
-        )
+        local = self._local_equations(state, with_jacobian)
+        kin, local_residual, section = local.kinematics, local.residual, local.section
+        d_residual, d_section = local.d_residual, local.d_section
         residual = np.zeros(self.n_dofs)
         residual[self._row_index[self._row_mask]] = local_residual[self._row_mask]
         loads = load_factor * self._dead
@@ -426,8 +420,14 @@ class RodModel:
         """Position, quaternion, internal force and moment at a rod end, with derivatives."""
         state = np.asarray(state, dtype=float)
         point = self.layout.end_point(RodEnd(int(end.patch), end.side))
-        kin, section, d_section = self._point_equations(state, point)
-        return self._end_values(point, state, kin=kin, section=section, d_section=d_section)
+        local = self._local_equations(state, True, point)
+        return self._end_values(
+            point,
+            state,
+            kin=local.kinematics[:, 0],
+            section=local.section[:, 0],
+            d_section=local.d_section[:, :, 0],
+        )
 
     def problem(self, commit=None) -> NonlinearProblem:
         """This model as a `NonlinearProblem` for `rve_rod.newton` (with convergence scales).
@@ -540,34 +540,34 @@ class RodModel:
             rows.append(np.concatenate([*end_rows, extra]).astype(np.int64))
         return rows
 
-    def _point_equations(self, state: np.ndarray, point: int):
-        """Local variables (18,), section forces (6,) and their derivatives (6, 18) at one
-        collocation point."""
-        width = self.degree + 1
-        local = self._first[point] + np.arange(width)
-        control = np.ascontiguousarray(state[DOFS_PER_POINT * local[:, None] + np.arange(7)].T)
-        kin = np.empty((18, 1))
-        _kernels.gather_kinematics(
-            control,
-            np.zeros(1, dtype=np.int64),
-            np.ascontiguousarray(self._basis[:, :, point : point + 1]),
-            kin,
+    def _local_equations(self, state: np.ndarray, with_jacobian: bool, point=None) -> _Local:
+        """Run the kernels at all collocation points, or at the single point `point`."""
+        if point is None:
+            m = self.n_collocation
+            control = state[: DOFS_PER_POINT * m].reshape(m, DOFS_PER_POINT).T
+            first, basis = self._first, self._basis
+            reference, stiffness = self._reference, self._stiffness
+        else:
+            local = self._first[point] + np.arange(self.degree + 1)
+            control = state[DOFS_PER_POINT * local[:, None] + np.arange(DOFS_PER_POINT)].T
+            first = np.zeros(1, dtype=np.int64)
+            window = slice(point, point + 1)
+            basis = np.ascontiguousarray(self._basis[:, :, window])
+            reference = np.ascontiguousarray(self._reference[:, window])
+            stiffness = np.ascontiguousarray(self._stiffness[:, window])
+        m = first.size
+        out = _Local(
+            np.empty((18, m)),
+            np.empty((7, m)),
+            np.empty((6, m)),
+            np.zeros((7, 18, m)),
+            np.zeros((6, 18, m)),
         )
-        residual = np.empty((7, 1))
-        section = np.empty((6, 1))
-        d_residual = np.zeros((7, 18, 1))
-        d_section = np.zeros((6, 18, 1))
+        _kernels.gather_kinematics(np.ascontiguousarray(control), first, basis, out.kinematics)
         _kernels.collocation_equations(
-            kin,
-            np.ascontiguousarray(self._reference[:, point : point + 1]),
-            np.ascontiguousarray(self._stiffness[:, point : point + 1]),
-            True,
-            residual,
-            section,
-            d_residual,
-            d_section,
+            out.kinematics, reference, stiffness, with_jacobian, *out[1:]
         )
-        return kin[:, 0], section[:, 0], d_section[:, :, 0]
+        return out
 
     def _end_values(self, point, state, *, kin, section, d_section) -> EndValues:
         """EndValues at collocation `point` from its local variables (18,), section forces
@@ -643,23 +643,8 @@ class RodModel:
         row_parts = [rows[mask]]
         column_parts = [columns[mask]]
         state = self._reference_state
-        control = np.ascontiguousarray(state[: DOFS_PER_POINT * m].reshape(m, DOFS_PER_POINT).T)
-        kin = np.empty((18, m))
-        _kernels.gather_kinematics(control, self._first, self._basis, kin)
-        residual = np.empty((7, m))
-        section = np.empty((6, m))
-        d_residual = np.zeros((7, 18, m))
-        d_section = np.zeros((6, 18, m))
-        _kernels.collocation_equations(
-            kin,
-            self._reference,
-            self._stiffness,
-            True,
-            residual,
-            section,
-            d_residual,
-            d_section,
-        )
+        local = self._local_equations(state, True)
+        kin, section, d_section = local.kinematics, local.section, local.d_section
         condition_pairs = []
         for condition, owned in zip(self.conditions, self._condition_rows, strict=True):
             context = self._context(

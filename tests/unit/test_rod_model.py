@@ -2,20 +2,17 @@
 invariance, load lumping and the checks on conditions."""
 
 import itertools
-from dataclasses import dataclass
 
 import numpy as np
 import pytest
 import scipy.sparse
-from rod_cases import helix, interpolated_curve, straight, twisted_patches
+from rod_cases import ForceControl, helix, interpolated_curve, straight, twisted_patches
 
 from rve_rod.errors import InputError
 from rve_rod.rod import (
     END,
     START,
-    Block,
     Clamp,
-    Condition,
     DistributedLoad,
     EndLoad,
     Joint,
@@ -78,27 +75,6 @@ class Foundation:
         )
 
 
-@dataclass(frozen=True, eq=False)
-class AxialForceControl(Condition):
-    """User condition for one extra unknown: direction . n(end) = t * target (N)."""
-
-    end: RodEnd
-    direction: np.ndarray
-    target: float
-    extra_equations = 1
-
-    @property
-    def ends(self):
-        return ()
-
-    def evaluate(self, context, load_factor):
-        values = context.model.end_values(context.state, self.end)
-        residual = np.array([self.direction @ values.force - load_factor * self.target])
-        return [
-            Block(context.rows, residual, values.columns, (self.direction @ values.d_force)[None])
-        ]
-
-
 def stretch_offset(index, lattice):
     """Offset x_second - x_first = (1 + state[index]) * lattice for a periodic joint."""
 
@@ -141,7 +117,7 @@ def periodic_model():
     conditions = [
         Joint(RodEnd(0, END), RodEnd(1, START)),
         Joint(RodEnd(1, END), RodEnd(0, START), offset=stretch_offset(stretch, lattice)),
-        AxialForceControl(RodEnd(0, START), np.array([0.0, 0.0, 1.0]), 0.03),
+        ForceControl(RodEnd(0, START), np.array([0.0, 0.0, 1.0]), 0.03),
         PointSupport(1, 0.4, first_unknown=1, rotation_axes=([0.0, 0.0, 2.0], [1.0, 1.0, 0.0])),
     ]
     return RodModel(patches, conditions, extra_unknowns=6, extra_state_scale=0.1)

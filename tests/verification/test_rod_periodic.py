@@ -2,18 +2,14 @@
 the last END to the first START whose offset depends on a macro-stretch unknown, a user
 condition closing that unknown with a force, and a PointSupport removing the rigid modes."""
 
-from dataclasses import dataclass
-
 import numpy as np
 import pytest
-from rod_cases import interpolated_curve, straight
+from rod_cases import ForceControl, interpolated_curve, straight
 
 from rve_rod.newton import solve_path
 from rve_rod.rod import (
     END,
     START,
-    Block,
-    Condition,
     Joint,
     Offset,
     PointSupport,
@@ -25,31 +21,6 @@ from rve_rod.rod import (
 
 LENGTH = 4.0
 SECTION = SectionStiffness.circular(0.2, 500.0)
-
-
-@dataclass(frozen=True, eq=False)
-class ForceControl(Condition):
-    """The equation of the stretch unknown: the force carried through the periodic joint,
-    along `direction`, equals t * target (N)."""
-
-    end: RodEnd
-    direction: np.ndarray
-    target: float
-    extra_equations = 1
-
-    @property
-    def ends(self):
-        return ()
-
-    def row_scales(self, length, force):
-        return np.array([force])
-
-    def evaluate(self, context, load_factor):
-        values = context.model.end_values(context.state, self.end)
-        residual = np.array([self.direction @ values.force - load_factor * self.target])
-        return [
-            Block(context.rows, residual, values.columns, (self.direction @ values.d_force)[None])
-        ]
 
 
 def periodic_cell(curve, force):
