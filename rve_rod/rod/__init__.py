@@ -23,7 +23,9 @@ from rve_rod.rod.layout import END, START, DofLayout, RodEnd
 from rve_rod.rod.loads import DistributedLoad, LineLoads, PointLoad, StateDependentLoad
 from rve_rod.rod.model import (
     CollocationData,
+    ControlPoints,
     Evaluation,
+    PointLoadWeights,
     RodModel,
     RodPatch,
     SectionForces,
@@ -40,6 +42,7 @@ __all__ = [
     "CollocationData",
     "Condition",
     "ConditionContext",
+    "ControlPoints",
     "DistributedLoad",
     "DofLayout",
     "EndCondition",
@@ -51,6 +54,7 @@ __all__ = [
     "Offset",
     "Pin",
     "PointLoad",
+    "PointLoadWeights",
     "PointSupport",
     "RodEnd",
     "RodModel",

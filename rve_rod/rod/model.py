@@ -127,6 +127,20 @@ class CollocationData(NamedTuple):
         )
 
 
+class ControlPoints(NamedTuple):
+    """Control points of one patch: positions (n, 3) (mm) and quaternions (n, 4)."""
+
+    positions: np.ndarray
+    quaternions: np.ndarray
+
+
+class PointLoadWeights(NamedTuple):
+    """How a point load is lumped: line load f = P * weights (1/mm) at collocation `points`."""
+
+    points: np.ndarray
+    weights: np.ndarray
+
+
 class SectionForces(NamedTuple):
     """Internal force and moment at the collocation points (global order, M points).
 
@@ -197,6 +211,15 @@ class RodModel:
             multipliers); their equations come from the conditions.
         extra_state_scale: typical magnitude of the extra unknowns (scalar or (n_extra,)),
             for the Newton increment norm.
+
+    Attributes:
+        patches, conditions, degree, layout: as given / derived.
+        collocation: CollocationData per patch (Greville points and basis values there).
+        tributary_lengths: (M,) integral of N_i ds over the reference (mm), per collocation
+            point; used to lump point loads.
+        characteristic_length: total reference arc length L (mm).
+        characteristic_force: largest translational stiffness (N); with L it scales the
+            convergence norms.
     """
 
     def __init__(
@@ -295,10 +318,12 @@ class RodModel:
             state[self.layout.quaternion_dofs(k)] = patch.quaternions
         return state
 
-    def control_points(self, state: np.ndarray, patch: int) -> tuple[np.ndarray, np.ndarray]:
+    def control_points(self, state: np.ndarray, patch: int) -> ControlPoints:
         """Positions (n_k, 3) and quaternions (n_k, 4) of the control points of `patch`."""
         state = np.asarray(state)
-        return state[self.layout.position_dofs(patch)], state[self.layout.quaternion_dofs(patch)]
+        return ControlPoints(
+            state[self.layout.position_dofs(patch)], state[self.layout.quaternion_dofs(patch)]
+        )
 
     # -------------------------------------------------------------------- post-processing --
 
@@ -321,11 +346,11 @@ class RodModel:
         local = control[self._first[:, None] + np.arange(self.degree + 1)[None, :]]
         return np.einsum("ja,jac->cj", self._basis[0].T, local)
 
-    def point_load_weights(self, patch: int, parameter: float) -> tuple[np.ndarray, np.ndarray]:
+    def point_load_weights(self, patch: int, parameter: float) -> PointLoadWeights:
         """Collocation points and weights (1/mm) that lump a point load at u* (see `loads`).
 
-        Returns (points (k,), weights (k,)): line load f_i = P * weights at global collocation
-        points `points`, with sum(weights * tributary_lengths[points]) = 1.
+        Returns points (k,) and weights (k,): line load f_i = P * weights at the global
+        collocation points `points`, with sum(weights * tributary_lengths[points]) = 1.
         """
         curve = self.patches[patch].centreline
         low, high = curve.domain
@@ -340,7 +365,7 @@ class RodModel:
         # The end points carry end conditions: move their shares to the interior neighbours.
         local = np.where(local == 0, 1, np.where(local == n - 1, n - 2, local))
         points = self.layout.first_point(patch) + local
-        return points, shares / self.tributary_lengths[points]
+        return PointLoadWeights(points, shares / self.tributary_lengths[points])
 
     # ------------------------------------------------------------------------- evaluation --
 

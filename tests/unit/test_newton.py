@@ -117,3 +117,13 @@ def test_bad_options_raise_input_error(options, message):
 def test_load_factors_must_increase():
     with pytest.raises(InputError, match="increase strictly"):
         solve_path(cubic_problem(), np.zeros(2), [0.5, 0.2])
+
+
+def test_singular_jacobian_is_reported_not_raised():
+    def evaluate(u, t):  # rigid mode left in: the Jacobian has a zero column
+        return np.array([u[0] - t, 0.0 * u[1]]), scipy.sparse.csr_matrix([[1.0, 0.0], [0.0, 0.0]])
+
+    result = newton_solve(NonlinearProblem(evaluate), np.zeros(2), 1.0)
+    assert not result.converged
+    assert result.reason == "singular"
+    assert result.iterations == 0
