@@ -8,6 +8,8 @@ and regularization weight the table gives:
   asym   tangent asymmetry max |dS11/dE22 - dS22/dE11| / max |dS/dE| (0 for the exact law),
   ms     fit time in milliseconds.
 
+A second table varies the number of rays at the default fit options.
+
 Run: .venv/bin/python benchmarks/bench_surface_fit.py [--rays 16] [--steps 10]
 """
 
@@ -34,6 +36,15 @@ def gap_strains(plan: SamplingPlan) -> np.ndarray:
     return np.concatenate(strains)
 
 
+def errors(surface, samples, plan, rve):
+    """(max relative residual at the samples, max relative error between the rays)."""
+    gaps = gap_strains(plan)
+    scale = np.abs(samples.biaxial_stress[:, :2]).max(axis=0)
+    residual = max(surface.samples[name].stats().max_rel for name in ("S11", "S22"))
+    gap = (np.abs(surface.stress(gaps).S[:, :2] - rve.stress(gaps)[:, :2]) / scale).max()
+    return residual, gap
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rays", type=int, default=16)
@@ -44,9 +55,6 @@ def main() -> None:
     fabric = load_preset("cotton-20s2", 5.5)
     paths = plan.load_paths()
     samples = surface_samples(paths, tuple(rve(RveCase(fabric, path)) for path in paths))
-    gaps = gap_strains(plan)
-    exact = rve.stress(gaps)[:, :2]
-    scale = np.abs(samples.biaxial_stress[:, :2]).max(axis=0)
     print(
         f"{samples.biaxial_strain.shape[0]} biaxial samples on {args.rays} rays, "
         f"{samples.shear_strain.shape[0]} shear samples"
@@ -59,12 +67,25 @@ def main() -> None:
                 started = time.perf_counter()
                 surface = fitter(samples, options)
                 elapsed = 1e3 * (time.perf_counter() - started)
-                residual = max(surface.samples[name].stats().max_rel for name in ("S11", "S22"))
-                gap = (np.abs(surface.stress(gaps).S[:, :2] - exact) / scale).max()
+                residual, gap = errors(surface, samples, plan, rve)
                 print(
                     f"{kind:>6} {spans:>5} {regularization:>7.0e} {residual:>9.2e} "
                     f"{gap:>9.2e} {surface.tangent_asymmetry():>9.2e} {elapsed:>7.1f}"
                 )
+
+    print("\ndefault fit options, more or fewer rays:")
+    print(f"{'kind':>6} {'rays':>5} {'samples':>7} {'res':>9} {'gap':>9} {'asym':>9}")
+    for kind, fitter in (("stress", fit_stress_surface), ("energy", fit_energy_surface)):
+        for rays in (8, 16, 32):
+            plan = SamplingPlan(rays=rays, steps_per_ray=args.steps)
+            paths = plan.load_paths()
+            samples = surface_samples(paths, tuple(rve(RveCase(fabric, p)) for p in paths))
+            surface = fitter(samples)
+            residual, gap = errors(surface, samples, plan, rve)
+            print(
+                f"{kind:>6} {rays:>5} {samples.biaxial_strain.shape[0]:>7} {residual:>9.2e} "
+                f"{gap:>9.2e} {surface.tangent_asymmetry():>9.2e}"
+            )
 
 
 if __name__ == "__main__":

@@ -209,8 +209,19 @@ def _shear_knots(samples: SurfaceSamples, degree: int, options: FitOptions) -> n
     return symmetric_knot_vector(extent, degree, spans)
 
 
-def _fit_samples(inputs: np.ndarray, values: np.ndarray, fitted: np.ndarray) -> FitSamples:
-    return FitSamples(inputs=inputs, values=values, residuals=fitted - values)
+def _residual_samples(samples: SurfaceSamples, s11, s22, s12) -> dict[str, FitSamples]:
+    """The samples of each stress group with the residuals of the fitted splines."""
+    normal = samples.biaxial_strain[:, :2]
+    shear = samples.shear_strain[:, 2:]
+    fitted = {
+        "S11": (normal, samples.biaxial_stress[:, 0], s11(normal[:, 0], normal[:, 1])),
+        "S22": (normal, samples.biaxial_stress[:, 1], s22(normal[:, 0], normal[:, 1])),
+        "S12": (shear, samples.shear_stress[:, 2], s12(shear[:, 0])),
+    }
+    return {
+        name: FitSamples(inputs=inputs, values=values, residuals=fit - values)
+        for name, (inputs, values, fit) in fitted.items()
+    }
 
 
 def _parameters(options: FitOptions, kind: str) -> dict:
@@ -245,24 +256,12 @@ def fit_stress_surface(
         shear_rows @ odd, samples.shear_stress[:, 2], shear_penalty @ odd, options.regularization
     )
     splines["S12"] = Spline1D(p, shear_knots, odd @ free)
-
-    normal_inputs = E[:, :2]
-    fit_samples = {
-        name: _fit_samples(
-            normal_inputs, S[:, column], splines[name](normal_inputs[:, 0], normal_inputs[:, 1])
-        )
-        for column, name in enumerate(("S11", "S22"))
-    }
-    shear_inputs = samples.shear_strain[:, 2:]
-    fit_samples["S12"] = _fit_samples(
-        shear_inputs, samples.shear_stress[:, 2], splines["S12"](shear_inputs[:, 0])
-    )
     return ResponseSurface(
         kind="stress",
         s11=splines["S11"],
         s22=splines["S22"],
         s12=splines["S12"],
-        samples=fit_samples,
+        samples=_residual_samples(samples, splines["S11"], splines["S22"], splines["S12"]),
         parameters=_parameters(options, "stress"),
     )
 
@@ -308,13 +307,5 @@ def fit_energy_surface(
     psi_shear = Spline1D(q, shear_knots, even @ free, 2)
 
     surface = energy_surface(psi, psi_shear)
-    normal_inputs = E[:, :2]
-    shear_inputs = samples.shear_strain[:, 2:]
-    fit_samples = {
-        "S11": _fit_samples(normal_inputs, S[:, 0], surface.s11(E[:, 0], E[:, 1])),
-        "S22": _fit_samples(normal_inputs, S[:, 1], surface.s22(E[:, 0], E[:, 1])),
-        "S12": _fit_samples(
-            shear_inputs, samples.shear_stress[:, 2], surface.s12(shear_inputs[:, 0])
-        ),
-    }
-    return energy_surface(psi, psi_shear, fit_samples, _parameters(options, "energy"))
+    residuals = _residual_samples(samples, surface.s11, surface.s22, surface.s12)
+    return energy_surface(psi, psi_shear, residuals, _parameters(options, "energy"))

@@ -35,25 +35,16 @@ def variants():
     """The base case with each single input changed, by name."""
     yield "base", BASE_CASE, BASE_ENGINE
     fabric = BASE_FABRIC
-    for field in dataclasses.fields(Yarn):
-        if field.name != "name":
-            yarn = dataclasses.replace(
-                fabric.yarn, **{field.name: perturbed(getattr(fabric.yarn, field.name))}
+    for part in ("yarn", "knit"):
+        component = getattr(fabric, part)
+        for field in dataclasses.fields(component):
+            if field.name == "name":
+                continue
+            changed = {field.name: perturbed(getattr(component, field.name))}
+            changed_fabric = dataclasses.replace(
+                fabric, **{part: dataclasses.replace(component, **changed)}
             )
-            yield (
-                f"yarn.{field.name}",
-                RveCase(dataclasses.replace(fabric, yarn=yarn), BASE_CASE.load),
-                BASE_ENGINE,
-            )
-    for field in dataclasses.fields(Knit):
-        knit = dataclasses.replace(
-            fabric.knit, **{field.name: perturbed(getattr(fabric.knit, field.name))}
-        )
-        yield (
-            f"knit.{field.name}",
-            RveCase(dataclasses.replace(fabric, knit=knit), BASE_CASE.load),
-            BASE_ENGINE,
-        )
+            yield f"{part}.{field.name}", RveCase(changed_fabric, BASE_CASE.load), BASE_ENGINE
     for name, load in (
         ("load.angle", LoadPath("biaxial", 45.0, 0.2, 10)),
         ("load.max_load", LoadPath("biaxial", 22.5, 0.21, 10)),
