@@ -53,9 +53,15 @@ class AnalyticRve:
     compression_limit: float | None = None
 
     def __post_init__(self):
-        for name in ("course_stiffness", "course_stiffening", "wale_stiffness"):
-            check_positive(name, getattr(self, name))
-        for name in ("wale_stiffening", "shear_stiffness", "shear_stiffening_strain"):
+        positive = (
+            "course_stiffness",
+            "course_stiffening",
+            "wale_stiffness",
+            "wale_stiffening",
+            "shear_stiffness",
+            "shear_stiffening_strain",
+        )
+        for name in positive:
             check_positive(name, getattr(self, name))
         check_finite("coupling_11_22", self.coupling_11_22)
         check_finite("coupling_22_11", self.coupling_22_11)
