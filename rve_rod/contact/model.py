@@ -29,7 +29,14 @@ import scipy.sparse
 from rve_rod.contact import _kernels
 from rve_rod.contact.broad_phase import find_candidates, group_boxes, group_spans, select_images
 from rve_rod.contact.closest_point import project
-from rve_rod.contact.forces import Kinematics, LoadBlocks, friction_loads, kinematics, normal_loads
+from rve_rod.contact.forces import (
+    ANCHOR,
+    MASTER,
+    ContactLoads,
+    Kinematics,
+    contact_loads,
+    kinematics,
+)
 from rve_rod.contact.friction import FrictionHistory, match_anchors
 from rve_rod.contact.law import CompressibleYarnLaw, CoulombFriction
 from rve_rod.contact.layout import (
@@ -163,6 +170,12 @@ class _Anchors(NamedTuple):
     span: np.ndarray  # (k,)
     tau: np.ndarray  # (k,)
     shift: np.ndarray  # (k, 3) reference lattice shift of the anchor's image
+    slip_vector: np.ndarray  # (3, k) w = x_s - x_a - o (mm), zero without anchor
+
+    @classmethod
+    def none(cls, k: int) -> "_Anchors":
+        """k contacts without anchors."""
+        return cls(np.full(k, -1), np.zeros(k), np.zeros((k, 3)), np.zeros((3, k)))
 
 
 class _SearchCounts(NamedTuple):
@@ -200,16 +213,6 @@ class _Selection(NamedTuple):
             state=Kinematics(*(field[..., rows] for field in self.state)),
             counts=self.counts,
         )
-
-
-class _Friction(NamedTuple):
-    """Friction of the active contacts (arrays over k active contacts)."""
-
-    load: np.ndarray  # (3, k) N/mm
-    sliding: np.ndarray  # (k,)
-    anchors: _Anchors
-    blocks: LoadBlocks  # derivative blocks (zero where there is no anchor)
-    elastic_slip: np.ndarray  # (3, k) g_e kept by the anchors (mm)
 
 
 class ContactModel:
@@ -307,23 +310,20 @@ class ContactModel:
         radius = self.law.yarn_radius
         active_rows = np.flatnonzero(detected.state.distance < 2.0 * radius)
         active = detected.subset(active_rows)
-        force, blocks = normal_loads(active.state, self.law)
         k = active_rows.size
-        friction_load = np.zeros((3, k))
-        sliding = np.zeros(k, dtype=bool)
-        anchors = _Anchors(np.full(k, -1), np.zeros(k), np.zeros((k, 3)))
+        anchors = _Anchors.none(k)
+        if self.friction is not None:
+            anchors = self._anchors(points, slave_points, deformation, active)
+        loads = contact_loads(
+            active.state, self.law, self.friction, anchors.slip_vector, anchors.span >= 0
+        )
         trial_history = None
         if self.friction is not None:
-            friction = self._friction(points, slave_points, deformation, active, force)
-            friction_load, sliding, anchors = friction.load, friction.sliding, friction.anchors
-            blocks = LoadBlocks(*(a + b for a, b in zip(blocks, friction.blocks, strict=True)))
-            trial_history = self._trial_history(detected, active_rows, friction)
-
-        line_load = np.zeros((layout.n_points, 3))
-        np.add.at(line_load, active.slave, blocks.load.T)
+            trial_history = self._trial_history(detected, active_rows, loads)
+        line_load = _sum_per_point(active.slave, loads.load, layout.n_points)
         jacobian = deformation_jacobian = None
         if tangent:
-            jacobian, deformation_jacobian = self._linearization(blocks, active, anchors)
+            jacobian, deformation_jacobian = self._linearization(loads, active, anchors)
         penetration = 2.0 * radius - active.state.distance
         contacts = ActiveContacts(
             slave=active.slave,
@@ -332,9 +332,9 @@ class ContactModel:
             image=active.image,
             penetration=penetration,
             normal=active.state.normal,
-            normal_load=force,
-            friction_load=friction_load,
-            sliding=sliding,
+            normal_load=loads.normal_force,
+            friction_load=loads.friction_load,
+            sliding=loads.sliding,
         )
         counts = detected.counts
         anchored = anchors.span >= 0
@@ -347,8 +347,8 @@ class ContactModel:
             span_tests=counts.span_tests,
             all_pairs=counts.all_pairs,
             closest_points=int(detected.slave.size),
-            sticking=int(np.count_nonzero(anchored & ~sliding)) if friction_on else 0,
-            sliding=int(np.count_nonzero(sliding)),
+            sticking=int(np.count_nonzero(anchored & ~loads.sliding)) if friction_on else 0,
+            sliding=int(np.count_nonzero(loads.sliding)),
             without_anchor=int(np.count_nonzero(~anchored)) if friction_on else 0,
         )
         logger.debug(
@@ -360,7 +360,7 @@ class ContactModel:
             statistics.all_pairs,
         )
         return ContactResult(
-            line_load=line_load.T,
+            line_load=line_load,
             jacobian=jacobian,
             deformation_jacobian=deformation_jacobian,
             contacts=contacts,
@@ -368,16 +368,15 @@ class ContactModel:
             trial_history=trial_history,
         )
 
-    def _friction(self, points, slave_points, deformation, active, normal_force) -> _Friction:
-        """Return mapping from the committed anchors; contacts without one carry no friction."""
+    def _anchors(self, points, slave_points, deformation, active: _Selection) -> _Anchors:
+        """The committed anchors of the active contacts and their slip vectors."""
         history = self._history
-        k = active.slave.size
         anchor = match_anchors(
             history, active.slave, active.strand, active.arc, self.exclusion_arc_length
         )
         rows = np.flatnonzero(anchor >= 0)
         anchor = anchor[rows]
-        anchors = _Anchors(np.full(k, -1), np.zeros(k), np.zeros((k, 3)))
+        anchors = _Anchors.none(active.slave.size)
         anchors.span[rows] = history.span[anchor]
         anchors.tau[rows] = history.tau[anchor]
         anchors.shift[rows] = self._shifts(history.image[anchor])
@@ -385,25 +384,10 @@ class ContactModel:
             self._span_points(points, anchors.span[rows], anchors.tau[rows])
             + (anchors.shift[rows] @ deformation.T).T
         )
-        state = Kinematics(*(field[..., rows] for field in active.state))
-        slip_vector = (
+        anchors.slip_vector[:, rows] = (
             slave_points[:, active.slave[rows]] - anchor_points - history.offset[:, anchor]
         )
-        slope = self.law.line_stiffness(2.0 * self.law.yarn_radius - state.distance)
-        result, blocks = friction_loads(
-            state, normal_force[rows], slope, slip_vector, self.friction
-        )
-        full = []
-        for part in blocks:
-            whole = np.zeros((*part.shape[:-1], k))
-            whole[..., rows] = part
-            full.append(whole)
-        load = full[0]
-        sliding = np.zeros(k, dtype=bool)
-        sliding[rows] = result.sliding
-        elastic_slip = np.zeros((3, k))
-        elastic_slip[:, rows] = result.elastic_slip
-        return _Friction(load, sliding, anchors, LoadBlocks(*full), elastic_slip)
+        return anchors
 
     # -- search -------------------------------------------------------------------------------
 
@@ -493,10 +477,10 @@ class ContactModel:
         basis = self.layout.basis(spans, tau)
         return np.einsum("ka,kac->ck", basis, self.layout.span_points(points)[spans])
 
-    def _trial_history(self, detected: _Selection, active_rows, friction: _Friction):
+    def _trial_history(self, detected: _Selection, active_rows, loads: ContactLoads):
         """Anchors of all detected pairs: offset v - g_e (g_e = 0 where there is no friction)."""
         offset = detected.state.gap_vector.copy()
-        offset[:, active_rows] -= friction.elastic_slip
+        offset[:, active_rows] -= loads.elastic_slip
         return FrictionHistory(
             slave=detected.slave,
             strand=detected.strand,
@@ -509,7 +493,7 @@ class ContactModel:
 
     # -- linearization --------------------------------------------------------------------------
 
-    def _linearization(self, blocks: LoadBlocks, active: _Selection, anchors: _Anchors):
+    def _linearization(self, loads: ContactLoads, active: _Selection, anchors: _Anchors):
         """Sparse d load / d positions and dense d load / d F from the 3x3 derivative blocks.
 
         A load at slave point j depends on the control points a of its own span through
@@ -536,13 +520,13 @@ class ContactModel:
                 anchor_basis,
             ]
         ).transpose(0, 2, 1)
-        stacked = np.stack([blocks.slave, blocks.master, blocks.tangent, blocks.anchor])
+        blocks = loads.blocks
         size = slave.size * 9 * 3 * (layout.degree + 1)
         rows = np.empty(size, dtype=np.int64)
         columns = np.empty(size, dtype=np.int64)
         values = np.empty(size)
         count = _kernels.block_entries(
-            np.ascontiguousarray(stacked),
+            blocks,
             slave.astype(np.int64),
             layout.n_points,
             np.ascontiguousarray(first),
@@ -556,12 +540,11 @@ class ContactModel:
             (values[:count], (rows[:count], columns[:count])), shape=shape
         )
         # d load / d F_ab = (d load / d x_m)[:, a] L_b + (d load / d x_a)[:, a] L_a,b.
-        per_contact = np.einsum("iak,kb->kiab", blocks.master[:, :2], shift[:, :2]) + np.einsum(
-            "iak,kb->kiab", blocks.anchor[:, :2], anchors.shift[:, :2]
+        per_contact = np.einsum("iak,kb->kiab", blocks[MASTER][:, :2], shift[:, :2]) + np.einsum(
+            "iak,kb->kiab", blocks[ANCHOR][:, :2], anchors.shift[:, :2]
         )
-        deformation = np.zeros((layout.n_points, 3, 4))
-        np.add.at(deformation, slave, per_contact.reshape(-1, 3, 4))
-        return jacobian, deformation.transpose(1, 0, 2).reshape(3 * layout.n_points, 4)
+        deformation = _sum_per_point(slave, per_contact.reshape(-1, 12).T, layout.n_points)
+        return jacobian, deformation.reshape(3, 4, -1).transpose(0, 2, 1).reshape(-1, 4)
 
     # -- input checks ---------------------------------------------------------------------------
 
@@ -586,3 +569,10 @@ class ContactModel:
                 f"deformation_gradient must be a finite (3, 3) array, got {deformation.shape}"
             )
         return deformation
+
+
+def _sum_per_point(points: np.ndarray, values: np.ndarray, n_points: int) -> np.ndarray:
+    """Sum columns of values (c, k) that belong to the same point: (c, n_points)."""
+    index = (np.arange(values.shape[0])[:, None] * n_points + points[None, :]).ravel()
+    total = np.bincount(index, weights=values.ravel(), minlength=values.shape[0] * n_points)
+    return total.reshape(values.shape[0], n_points)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import scipy.optimize
 
-from rve_rod.contact import _kernels
+from rve_rod.contact import CompressibleYarnLaw, _kernels
 from rve_rod.contact.broad_phase import overlapping_boxes
 from rve_rod.contact.closest_point import project
 from rve_rod.contact.layout import Patch, YarnChain, build_layout
@@ -157,3 +157,84 @@ def test_block_entries_match_a_dense_numpy_assembly(contacts):
                 expected[slave[c], :, first[2, c] + a] += blocks[3, ..., c] * basis[3, a, c]
     expected = expected.transpose(1, 0, 2, 3).reshape(3 * n_points, 3 * n_control)
     np.testing.assert_allclose(assembled, expected, atol=1e-13)
+
+
+IDENTITY = np.eye(3)[:, :, None]
+
+
+def outer(a, b):
+    return a[:, None, :] * b[None, :, :]
+
+
+def matmul(a, b):
+    return np.einsum("ijk,jlk->ilk", a, b)
+
+
+def reference_contact_loads(v, tangent, metric, w, anchored, *, law, mu, k_t):
+    """Plain NumPy loads and blocks (4, 3, 3, k) over all contacts at once."""
+    d = np.linalg.norm(v, axis=0)
+    n = v / d
+    g = 2 * law.yarn_radius - d
+    force, slope = law.line_load(g), law.line_stiffness(g)
+    nn = outer(n, n)
+    projector = IDENTITY - nn
+    stiffness = -slope * nn + force / d * projector - force / (d * metric) * outer(tangent, tangent)
+    blocks = np.stack([stiffness, -stiffness, -(force / metric) * outer(tangent, n), 0 * stiffness])
+    load = force * n
+    if mu == 0:
+        return load, force, blocks, np.zeros(d.size)
+    normal_part = np.einsum("ck,ck->k", n, w)
+    slip = w - normal_part * n
+    g_matrix = -(normal_part * projector + outer(n, slip)) / d
+    gq = matmul(g_matrix, IDENTITY - outer(tangent, tangent) / metric)
+    d_tangent = -outer(np.einsum("ijk,jk->ik", g_matrix, tangent), v) / metric
+    trial = -k_t * slip
+    trial_norm = np.linalg.norm(trial, axis=0)
+    sliding = trial_norm > mu * force
+    scale = np.where(sliding, mu * force / trial_norm, 1.0)
+    direction = trial / trial_norm
+    tangential = -k_t * scale * (IDENTITY - sliding * outer(direction, direction))
+    normal_term = np.where(sliding, -mu * slope, 0.0) * outer(direction, n)
+    friction = np.stack(
+        [
+            matmul(tangential, projector + gq) + normal_term,
+            matmul(tangential, -gq) - normal_term,
+            matmul(tangential, d_tangent),
+            matmul(tangential, -projector),
+        ]
+    )
+    blocks = blocks + anchored * friction
+    load = load + anchored * scale * trial
+    state = np.where(anchored, np.where(sliding, 2, 1), 0)
+    return load, force, blocks, state
+
+
+@pytest.mark.parametrize("exponent", [1.0, 1.5, 2.4])
+@pytest.mark.parametrize(("mu", "slip_size"), [(0.0, 0.0), (0.3, 1e-4), (0.3, 0.05)])
+def test_contact_loads_kernel_matches_numpy(exponent, mu, slip_size):
+    rng = np.random.default_rng(int(10 * exponent) + int(1e4 * slip_size))
+    k, radius = 40, 0.2
+    law = CompressibleYarnLaw(stiffness=4.0, exponent=exponent, yarn_radius=radius)
+    v = rng.normal(size=(3, k))
+    v *= rng.uniform(0.05, 0.39, k) / np.linalg.norm(v, axis=0)  # penetrations 0.01 .. 0.35
+    tangent = rng.normal(size=(3, k))
+    tangent -= np.einsum("ck,ck->k", tangent, v) / np.einsum("ck,ck->k", v, v) * v
+    metric = np.einsum("ck,ck->k", tangent, tangent) * rng.uniform(0.5, 2.0, k)
+    w = slip_size * rng.normal(size=(3, k))
+    anchored = rng.uniform(size=k) < 0.7
+    outputs = (np.empty((3, k)), np.empty(k), np.empty((4, 3, 3, k)), np.empty(k, np.int8))
+    _kernels.contact_loads(
+        v,
+        tangent,
+        metric,
+        w,
+        anchored,
+        np.array([4.0, exponent, radius]),
+        np.array([mu, 2.0]),
+        *outputs,
+    )
+    expected = reference_contact_loads(v, tangent, metric, w, anchored, law=law, mu=mu, k_t=2.0)
+    for actual, reference in zip(outputs, expected, strict=True):
+        np.testing.assert_allclose(actual, reference, rtol=1e-12, atol=1e-14)
+    if mu > 0:  # both paths are exercised: stick for small slips, slip for large ones
+        assert (1 if slip_size < 1e-3 else 2) in set(outputs[3])
