@@ -1,0 +1,386 @@
+"""Running a load case on the loop cell: load stepping, per-step outputs, the result record.
+
+`run_cell(cell)` follows the cell's load case from the unloaded state (first equilibrated at
+zero strain, so that any contact of the initial geometry is balanced before loading) through
+its output states with Newton and automatic cutback (`rve_rod.newton.solve_path`); friction
+slip is committed after every converged (sub)step. `simulate(fabric, case)` builds the loop
+geometry and the cell first. Both return an `RveResult`, or raise `ConvergenceError` whose
+`history` is the `RveResult` of the converged states (`complete=False`).
+"""
+
+import logging
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from rve_rod.errors import ConvergenceError
+from rve_rod.geometry.bspline import BSplineCurve
+from rve_rod.homogenize.samples import RveRun
+from rve_rod.newton import (
+    NewtonOptions,
+    NonlinearProblem,
+    PathResult,
+    SteppingOptions,
+    newton_solve,
+    solve_path,
+)
+from rve_rod.presets import Fabric
+from rve_rod.rve.cell import CellSettings, LoopCell
+from rve_rod.rve.load_cases import LoadCase
+from rve_rod.rve.yarn import YarnModel, YarnSettings, yarn_model
+from rve_rod.stress_measures import green_lagrange, second_piola_kirchhoff, voigt
+from rve_rod.units import n_per_mm_to_gf_per_cm
+
+logger = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class RveSettings:
+    """All settings of an RVE run besides the fabric and the load case.
+
+    Attributes:
+        cell: discretization and modelling choices of the cell.
+        yarn: choices of the yarn model (second moment, friction on/off, ...).
+        newton: Newton tolerances and iteration limit.
+        stepping: load stepping and cutback.
+    """
+
+    cell: CellSettings = field(default_factory=CellSettings)
+    yarn: YarnSettings = field(default_factory=YarnSettings)
+    newton: NewtonOptions = field(default_factory=NewtonOptions)
+    stepping: SteppingOptions = field(default_factory=SteppingOptions)
+
+
+@dataclass(frozen=True, eq=False)
+class RveStep:
+    """One converged output state.
+
+    Attributes:
+        load_factor: t in [0, 1].
+        strain: the case's control value at this state (eps, ray t or shear g).
+        deformation: (2, 2) macro F.
+        green_lagrange: (3,) E = (E11, E22, E12).
+        first_piola: (2, 2) P (N/mm).
+        second_piola: (3,) S = F^-1 P, symmetrized (N/mm).
+        reaction: (2, 2) force on the cell faces (N): column b is P[:, b] times the length of
+            the face normal to axis b (c for b = 1, w for b = 2).
+        force_n: the reaction along the load direction, sum_ab D_ab reaction_ab (N).
+        force_gf_per_cm: P : D, the force per width along the load direction (gf/cm).
+        lateral_strain: F_aa - 1 of the free normal component (uniaxial cases), else None.
+        newton_iterations: Newton iterations of this step (all substeps and failed tries).
+        substeps: converged substeps; cutbacks: failed tries that halved the increment.
+        active_contacts, sliding_contacts: contact points in contact / slipping.
+        max_penetration: largest penetration g = 2r - d (mm).
+        contacts_at_cut: contacts at the cut's end points (not applied; should be 0).
+        support_reaction: (4,) support force (N) and moment about the period axis (N mm).
+        regularization: largest |kappa H| of the free components (N/mm).
+        wall_time_s: wall time of this step (s).
+    """
+
+    load_factor: float
+    strain: float
+    deformation: np.ndarray
+    green_lagrange: np.ndarray
+    first_piola: np.ndarray
+    second_piola: np.ndarray
+    reaction: np.ndarray
+    force_n: float
+    force_gf_per_cm: float
+    lateral_strain: float | None
+    newton_iterations: int
+    substeps: int
+    cutbacks: int
+    active_contacts: int
+    sliding_contacts: int
+    max_penetration: float
+    contacts_at_cut: int
+    support_reaction: np.ndarray
+    regularization: float
+    wall_time_s: float
+
+
+@dataclass(frozen=True, eq=False)
+class RveResult:
+    """The converged states of one RVE run.
+
+    Attributes:
+        case: the load case.
+        fabric: the fabric.
+        settings: the run's settings.
+        yarn: the yarn model (adjusted radius, section, contact laws).
+        steps: the converged output states, the unloaded one first.
+        complete: True when the whole load path converged.
+        message: why the run stopped early ("" when complete).
+        curve: the reference centreline of the cell's patch (knots and degree of every
+            deformed centreline).
+        centrelines: (s, n, 3) control points of the centreline at each step (mm).
+        newton_iterations: all Newton iterations of the run, including the zero-strain one.
+        wall_time_s: wall time of the run, model building included (s).
+    """
+
+    case: LoadCase
+    fabric: Fabric
+    settings: RveSettings
+    yarn: YarnModel
+    steps: tuple[RveStep, ...]
+    complete: bool
+    message: str
+    curve: BSplineCurve
+    centrelines: np.ndarray
+    newton_iterations: int
+    wall_time_s: float
+
+    def series(self, name: str) -> np.ndarray:
+        """One attribute of every step as an array, e.g. series("force_gf_per_cm")."""
+        return np.array([getattr(step, name) for step in self.steps])
+
+    @property
+    def poisson_ratio(self) -> float | None:
+        """nu12 = -eps22/eps11 (uniaxial-course) or nu21 = -eps11/eps22 (uniaxial-wale) at
+        the last converged state; None for other cases or before any strain."""
+        last = self.steps[-1]
+        if last.lateral_strain is None or last.strain == 0.0:
+            return None
+        return -last.lateral_strain / last.strain
+
+    def centreline(self, step: int) -> BSplineCurve:
+        """The deformed centreline of output state `step` (the cell's period, mm)."""
+        return BSplineCurve(self.curve.degree, self.curve.knots, self.centrelines[step])
+
+    def to_rve_run(self) -> RveRun:
+        """The loaded states as the homogenization's RveRun (F and P, reference excluded)."""
+        loaded = self.steps[1:]
+        return RveRun(
+            np.array([step.deformation for step in loaded]).reshape(-1, 2, 2),
+            np.array([step.first_piola for step in loaded]).reshape(-1, 2, 2),
+            complete=self.complete,
+        )
+
+    def to_dict(self) -> dict:
+        """Plain data for JSON: the per-step series, the Poisson ratio and the settings."""
+        return {
+            "case": self.case.name,
+            "case_settings": self.case.__dict__,
+            "fabric": {"name": self.fabric.name, **self.fabric.knit.__dict__},
+            "yarn": {**self.fabric.yarn.__dict__},
+            "adjusted_radius": self.yarn.radius,
+            "radius_adjusted": self.yarn.adjusted,
+            "contact_exponent": self.yarn.law.exponent,
+            "contact_stiffness": self.yarn.law.stiffness,
+            "control_points_per_curve": self.settings.cell.control_points,
+            "complete": self.complete,
+            "message": self.message,
+            "poisson_ratio": self.poisson_ratio,
+            "newton_iterations_total": self.newton_iterations,
+            "wall_time_s": self.wall_time_s,
+            **{
+                name: self.series(name).tolist()
+                for name in (
+                    "load_factor",
+                    "strain",
+                    "force_gf_per_cm",
+                    "force_n",
+                    "newton_iterations",
+                    "substeps",
+                    "cutbacks",
+                    "active_contacts",
+                    "sliding_contacts",
+                    "max_penetration",
+                    "contacts_at_cut",
+                    "regularization",
+                )
+            },
+            "lateral_strain": [step.lateral_strain for step in self.steps],
+            "step_wall_time_s": self.series("wall_time_s").tolist(),
+            "deformation_gradient": self.series("deformation").tolist(),
+            "green_lagrange": self.series("green_lagrange").tolist(),
+            "first_piola": self.series("first_piola").tolist(),
+            "second_piola": self.series("second_piola").tolist(),
+            "reaction_n": self.series("reaction").tolist(),
+            "support_reaction": self.series("support_reaction").tolist(),
+        }
+
+
+class _Recorder:
+    """Counts evaluations and times the output states of one path (wraps the problem)."""
+
+    def __init__(self, problem: NonlinearProblem, targets: np.ndarray, started: float):
+        self.problem = problem
+        self.targets = list(targets)
+        self.evaluations = 0
+        self.records: list[tuple[int, float]] = []  # (evaluations, wall time) per target
+        self._last = started
+
+    def evaluate(self, state, load_factor):
+        self.evaluations += 1
+        return self.problem.evaluate(state, load_factor)
+
+    def commit(self, state, load_factor):
+        self.problem.commit(state, load_factor)
+        index = len(self.records)
+        if index < len(self.targets) and abs(load_factor - self.targets[index]) <= 1e-12:
+            now = time.perf_counter()
+            self.records.append((self.evaluations, now - self._last))
+            self.evaluations = 0
+            self._last = now
+
+    def wrapped(self) -> NonlinearProblem:
+        return NonlinearProblem(
+            evaluate=self.evaluate,
+            residual_scale=self.problem.residual_scale,
+            state_scale=self.problem.state_scale,
+            commit=self.commit,
+        )
+
+
+def _step(cell: LoopCell, state, load_factor, record, *, iterations, substeps, cutbacks):
+    """The outputs of a converged state."""
+    case = cell.case
+    derived = cell.evaluate_state(state, load_factor)
+    F, P = derived.deformation, derived.stress.first_piola
+    knit = cell.coupling.lattice
+    faces = np.array([knit[1, 1], knit[0, 0]])  # face normal to x has length c, to y has w
+    reaction = P * faces[None, :]
+    direction = case.load_direction()
+    contacts = cell.coupling.result(state, load_factor, tangent=False).statistics
+    lateral = None
+    if case.lateral is not None:
+        a, b = case.lateral
+        lateral = float(F[a, b] - 1.0)
+    return RveStep(
+        load_factor=float(load_factor),
+        strain=float(load_factor * case.control()),
+        deformation=F,
+        green_lagrange=voigt(green_lagrange(F)),
+        first_piola=P,
+        second_piola=voigt(second_piola_kirchhoff(F, P)),
+        reaction=reaction,
+        force_n=float(np.sum(direction * reaction)),
+        force_gf_per_cm=float(n_per_mm_to_gf_per_cm(np.sum(direction * P))),
+        lateral_strain=lateral,
+        newton_iterations=int(iterations),
+        substeps=int(substeps),
+        cutbacks=int(cutbacks),
+        active_contacts=contacts.active_contacts,
+        sliding_contacts=contacts.sliding,
+        max_penetration=contacts.max_penetration,
+        contacts_at_cut=derived.stress.contacts_at_cut,
+        support_reaction=derived.support_reaction,
+        regularization=float(np.abs(derived.regularization).max()),
+        wall_time_s=float(record),
+    )
+
+
+def run_cell(
+    cell: LoopCell,
+    fabric: Fabric,
+    settings: RveSettings = RveSettings(),
+    *,
+    on_step: Callable[[RveStep], None] | None = None,
+    started: float | None = None,
+) -> RveResult:
+    """Follow the cell's load case (module docstring).
+
+    Args:
+        cell: the loop cell (it carries the load case).
+        fabric: the fabric the cell was built for (recorded in the result).
+        settings: the settings the cell was built with, and the solver's.
+        on_step: called with every converged output state (progress reports).
+        started: perf_counter() time the run started (model building included); now if None.
+
+    Raises:
+        ConvergenceError: the path could not be continued; `history` is the RveResult of the
+            converged states.
+    """
+    started = time.perf_counter() if started is None else started
+    problem = cell.problem()
+    steps: list[RveStep] = []
+    states: list[np.ndarray] = []
+
+    def result(complete: bool, message: str, iterations: int) -> RveResult:
+        return RveResult(
+            case=cell.case,
+            fabric=fabric,
+            settings=settings,
+            yarn=cell.yarn,
+            steps=tuple(steps),
+            complete=complete,
+            message=message,
+            curve=cell.curve,
+            centrelines=np.array([cell.positions(state) for state in states]),
+            newton_iterations=iterations,
+            wall_time_s=time.perf_counter() - started,
+        )
+
+    def add(state, load_factor, **counts):
+        steps.append(_step(cell, state, load_factor, **counts))
+        states.append(np.array(state, copy=True))
+        if on_step is not None:
+            on_step(steps[-1])
+
+    tic = time.perf_counter()
+    initial = newton_solve(problem, cell.reference_state(), 0.0, settings.newton)
+    if not initial.converged:
+        raise ConvergenceError(
+            f"the unloaded cell has no equilibrium: {initial.reason} after "
+            f"{initial.iterations} iterations (the initial geometry overlaps too much?)",
+            history=result(False, "no equilibrium at zero strain", initial.iterations),
+        )
+    problem.commit(initial.state, 0.0)
+    add(
+        initial.state,
+        0.0,
+        record=time.perf_counter() - tic,
+        iterations=initial.iterations,
+        substeps=1,
+        cutbacks=0,
+    )
+    targets = cell.case.load_factors()[1:]
+    recorder = _Recorder(problem, targets, time.perf_counter())
+    try:
+        path = solve_path(
+            recorder.wrapped(),
+            initial.state,
+            targets,
+            stepping=settings.stepping,
+            newton=settings.newton,
+        )
+        message, complete = "", True
+    except ConvergenceError as error:
+        path = error.history
+        message, complete = str(error), False
+    _add_path_steps(path, recorder, add)
+    total = initial.iterations + path.newton_iterations
+    outcome = result(complete, message, total)
+    if not complete:
+        raise ConvergenceError(
+            f"{cell.case.name} stopped at strain {steps[-1].strain:.4g} "
+            f"({len(steps) - 1} of {len(targets)} steps): {message}",
+            last_converged=steps[-1],
+            history=outcome,
+        )
+    return outcome
+
+
+def _add_path_steps(path: PathResult, recorder: _Recorder, add) -> None:
+    """Add the converged output states of `path` (its first record is the start)."""
+    for record, (evaluations, wall) in zip(path.steps[1:], recorder.records, strict=False):
+        attempts = record.substeps + record.cutbacks
+        add(
+            record.state,
+            record.load_factor,
+            record=wall,
+            iterations=evaluations - attempts,
+            substeps=record.substeps,
+            cutbacks=record.cutbacks,
+        )
+
+
+def build_cell(
+    curves: list[BSplineCurve], fabric: Fabric, case: LoadCase, settings: RveSettings
+) -> LoopCell:
+    """The loop cell of `fabric` from its loop curves (built with the adjusted radius)."""
+    yarn = yarn_model(fabric, settings.yarn)
+    return LoopCell(curves, fabric.knit, yarn, case, settings.cell)
