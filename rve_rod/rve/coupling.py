@@ -74,8 +74,12 @@ class ContactCoupling:
         return result
 
     def commit(self, state: np.ndarray, load_factor: float) -> None:
-        """Adopt the friction anchors of a converged state (after each converged step)."""
+        """Adopt the friction anchors of a converged state (after each converged step).
+
+        The cached evaluation is dropped: it was made with the previous anchors.
+        """
         self.contact.commit(self.result(state, load_factor, tangent=False))
+        self._cached = None
 
     def __call__(self, model, state: np.ndarray, load_factor: float) -> LineLoads:
         result = self.result(state, load_factor)

@@ -12,22 +12,23 @@ import logging
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
+from rve_rod.contact import ContactStatistics
 from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.homogenize.samples import RveRun
 from rve_rod.newton import (
     NewtonOptions,
     NonlinearProblem,
-    PathResult,
     SteppingOptions,
     newton_solve,
     solve_path,
 )
 from rve_rod.presets import Fabric
-from rve_rod.rve.cell import CellSettings, LoopCell
+from rve_rod.rve.cell import CellSettings, CellState, LoopCell
 from rve_rod.rve.load_cases import LoadCase
 from rve_rod.rve.yarn import YarnModel, YarnSettings, yarn_model
 from rve_rod.stress_measures import green_lagrange, second_piola_kirchhoff, voigt
@@ -203,28 +204,55 @@ class RveResult:
         }
 
 
-class _Recorder:
-    """Counts evaluations and times the output states of one path (wraps the problem)."""
+class _Snapshot(NamedTuple):
+    """What a converged state yields before its friction slip is committed."""
 
-    def __init__(self, problem: NonlinearProblem, targets: np.ndarray, started: float):
-        self.problem = problem
+    state: np.ndarray
+    load_factor: float
+    derived: CellState
+    contacts: ContactStatistics
+    evaluations: int
+    wall_time_s: float
+
+
+class _Recorder:
+    """Wraps the cell's problem: counts evaluations, and at every converged output state
+    takes its outputs (before the commit changes the friction anchors) and its wall time."""
+
+    def __init__(self, cell: LoopCell, targets: np.ndarray):
+        self.cell = cell
+        self.problem = cell.problem()
         self.targets = list(targets)
         self.evaluations = 0
-        self.records: list[tuple[int, float]] = []  # (evaluations, wall time) per target
-        self._last = started
+        self.snapshots: list[_Snapshot] = []
+        self._last = time.perf_counter()
 
     def evaluate(self, state, load_factor):
         self.evaluations += 1
         return self.problem.evaluate(state, load_factor)
 
     def commit(self, state, load_factor):
-        self.problem.commit(state, load_factor)
-        index = len(self.records)
+        index = len(self.snapshots)
         if index < len(self.targets) and abs(load_factor - self.targets[index]) <= 1e-12:
-            now = time.perf_counter()
-            self.records.append((self.evaluations, now - self._last))
-            self.evaluations = 0
-            self._last = now
+            self.snapshot(state, load_factor)
+        self.problem.commit(state, load_factor)
+
+    def snapshot(self, state, load_factor):
+        """Record a converged output state."""
+        now = time.perf_counter()
+        contacts = self.cell.coupling.result(state, load_factor, tangent=False).statistics
+        self.snapshots.append(
+            _Snapshot(
+                state=np.array(state, copy=True),
+                load_factor=float(load_factor),
+                derived=self.cell.evaluate_state(state, load_factor),
+                contacts=contacts,
+                evaluations=self.evaluations,
+                wall_time_s=now - self._last,
+            )
+        )
+        self.evaluations = 0
+        self._last = now
 
     def wrapped(self) -> NonlinearProblem:
         return NonlinearProblem(
@@ -235,23 +263,21 @@ class _Recorder:
         )
 
 
-def _step(cell: LoopCell, state, load_factor, record, *, iterations, substeps, cutbacks):
-    """The outputs of a converged state."""
-    case = cell.case
-    derived = cell.evaluate_state(state, load_factor)
+def _step(case: LoadCase, lattice: np.ndarray, snapshot: _Snapshot, **counts) -> RveStep:
+    """The outputs of a converged state; `counts`: newton_iterations, substeps, cutbacks."""
+    derived = snapshot.derived
     F, P = derived.deformation, derived.stress.first_piola
-    knit = cell.coupling.lattice
-    faces = np.array([knit[1, 1], knit[0, 0]])  # face normal to x has length c, to y has w
+    faces = np.array([lattice[1, 1], lattice[0, 0]])  # face normal to x has length c, to y w
     reaction = P * faces[None, :]
     direction = case.load_direction()
-    contacts = cell.coupling.result(state, load_factor, tangent=False).statistics
     lateral = None
     if case.lateral is not None:
         a, b = case.lateral
         lateral = float(F[a, b] - 1.0)
+    contacts = snapshot.contacts
     return RveStep(
-        load_factor=float(load_factor),
-        strain=float(load_factor * case.control()),
+        load_factor=snapshot.load_factor,
+        strain=float(snapshot.load_factor * case.control()),
         deformation=F,
         green_lagrange=voigt(green_lagrange(F)),
         first_piola=P,
@@ -260,16 +286,14 @@ def _step(cell: LoopCell, state, load_factor, record, *, iterations, substeps, c
         force_n=float(np.sum(direction * reaction)),
         force_gf_per_cm=float(n_per_mm_to_gf_per_cm(np.sum(direction * P))),
         lateral_strain=lateral,
-        newton_iterations=int(iterations),
-        substeps=int(substeps),
-        cutbacks=int(cutbacks),
         active_contacts=contacts.active_contacts,
         sliding_contacts=contacts.sliding,
         max_penetration=contacts.max_penetration,
         contacts_at_cut=derived.stress.contacts_at_cut,
         support_reaction=derived.support_reaction,
         regularization=float(np.abs(derived.regularization).max()),
-        wall_time_s=float(record),
+        wall_time_s=snapshot.wall_time_s,
+        **counts,
     )
 
 
@@ -295,13 +319,22 @@ def run_cell(
             converged states.
     """
     started = time.perf_counter() if started is None else started
-    problem = cell.problem()
+    case = cell.case
+    lattice = cell.coupling.lattice
+    targets = case.load_factors()[1:]
+    recorder = _Recorder(cell, targets)
     steps: list[RveStep] = []
     states: list[np.ndarray] = []
 
+    def add(snapshot: _Snapshot, **counts):
+        steps.append(_step(case, lattice, snapshot, **counts))
+        states.append(snapshot.state)
+        if on_step is not None:
+            on_step(steps[-1])
+
     def result(complete: bool, message: str, iterations: int) -> RveResult:
         return RveResult(
-            case=cell.case,
+            case=case,
             fabric=fabric,
             settings=settings,
             yarn=cell.yarn,
@@ -314,68 +347,42 @@ def run_cell(
             wall_time_s=time.perf_counter() - started,
         )
 
-    def add(state, load_factor, **counts):
-        steps.append(_step(cell, state, load_factor, **counts))
-        states.append(np.array(state, copy=True))
-        if on_step is not None:
-            on_step(steps[-1])
-
-    tic = time.perf_counter()
+    problem = recorder.wrapped()
     initial = newton_solve(problem, cell.reference_state(), 0.0, settings.newton)
     if not initial.converged:
         raise ConvergenceError(
             f"the unloaded cell has no equilibrium: {initial.reason} after "
-            f"{initial.iterations} iterations (the initial geometry overlaps too much?)",
+            f"{initial.iterations} iterations (does the initial geometry overlap?)",
             history=result(False, "no equilibrium at zero strain", initial.iterations),
         )
-    problem.commit(initial.state, 0.0)
-    add(
-        initial.state,
-        0.0,
-        record=time.perf_counter() - tic,
-        iterations=initial.iterations,
-        substeps=1,
-        cutbacks=0,
-    )
-    targets = cell.case.load_factors()[1:]
-    recorder = _Recorder(problem, targets, time.perf_counter())
+    recorder.snapshot(initial.state, 0.0)
+    recorder.problem.commit(initial.state, 0.0)
+    add(recorder.snapshots.pop(), newton_iterations=initial.iterations, substeps=1, cutbacks=0)
     try:
         path = solve_path(
-            recorder.wrapped(),
-            initial.state,
-            targets,
-            stepping=settings.stepping,
-            newton=settings.newton,
+            problem, initial.state, targets, stepping=settings.stepping, newton=settings.newton
         )
         message, complete = "", True
     except ConvergenceError as error:
         path = error.history
         message, complete = str(error), False
-    _add_path_steps(path, recorder, add)
-    total = initial.iterations + path.newton_iterations
-    outcome = result(complete, message, total)
+    for record, snapshot in zip(path.steps[1:], recorder.snapshots, strict=False):
+        attempts = record.substeps + record.cutbacks
+        add(
+            snapshot,
+            newton_iterations=snapshot.evaluations - attempts,
+            substeps=record.substeps,
+            cutbacks=record.cutbacks,
+        )
+    outcome = result(complete, message, initial.iterations + path.newton_iterations)
     if not complete:
         raise ConvergenceError(
-            f"{cell.case.name} stopped at strain {steps[-1].strain:.4g} "
+            f"{case.name} stopped at strain {steps[-1].strain:.4g} "
             f"({len(steps) - 1} of {len(targets)} steps): {message}",
             last_converged=steps[-1],
             history=outcome,
         )
     return outcome
-
-
-def _add_path_steps(path: PathResult, recorder: _Recorder, add) -> None:
-    """Add the converged output states of `path` (its first record is the start)."""
-    for record, (evaluations, wall) in zip(path.steps[1:], recorder.records, strict=False):
-        attempts = record.substeps + record.cutbacks
-        add(
-            record.state,
-            record.load_factor,
-            record=wall,
-            iterations=evaluations - attempts,
-            substeps=record.substeps,
-            cutbacks=record.cutbacks,
-        )
 
 
 def build_cell(
