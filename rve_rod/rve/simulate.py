@@ -391,3 +391,36 @@ def build_cell(
     """The loop cell of `fabric` from its loop curves (built with the adjusted radius)."""
     yarn = yarn_model(fabric, settings.yarn)
     return LoopCell(curves, fabric.knit, yarn, case, settings.cell)
+
+
+def loop_curves(fabric: Fabric) -> list[BSplineCurve]:
+    """The 4 quarter curves of the fabric's loop, built with the adjusted radius (issue 2)."""
+    from rve_rod.geometry import loop  # noqa: PLC0415 (the geometry lands separately)
+
+    return list(loop.loop_geometry(fabric.knit, fabric.yarn.minimal_radius).curves)
+
+
+def simulate(
+    fabric: Fabric,
+    case: LoadCase,
+    settings: RveSettings = RveSettings(),
+    *,
+    curves: list[BSplineCurve] | None = None,
+    on_step: Callable[[RveStep], None] | None = None,
+) -> RveResult:
+    """Run `case` on the loop cell of `fabric` (geometry, cell, load path).
+
+    Args:
+        fabric: yarn and knit.
+        case: the load case.
+        settings: model and solver settings.
+        curves: the loop's 4 quarter curves; None builds them from the fabric.
+        on_step: called with every converged output state.
+
+    Raises:
+        ConvergenceError: with the RveResult of the converged states as `history`.
+    """
+    started = time.perf_counter()
+    curves = loop_curves(fabric) if curves is None else curves
+    cell = build_cell(curves, fabric, case, settings)
+    return run_cell(cell, fabric, settings, on_step=on_step, started=started)
