@@ -58,18 +58,25 @@ class NewtonOptions:
         max_iterations: iterations before the solve counts as failed (25).
         divergence_factor: the solve fails when the scaled residual exceeds this factor times
             max(first scaled residual, 1) (1e8).
+        line_search: most step halvings per iteration when the Newton step does not lower
+            the scaled residual's root mean square (default 0: plain Newton). Each halving
+            costs one evaluation; it damps the cycles Newton can fall into on non-smooth or
+            nearly singular systems (contact that barely touches, a free direction that is
+            almost unloaded).
     """
 
     residual_tolerance: float = 1e-10
     increment_tolerance: float = 1e-10
     max_iterations: int = 25
     divergence_factor: float = 1e8
+    line_search: int = 0
 
     def __post_init__(self):
         check_positive("residual_tolerance", self.residual_tolerance)
         check_positive("increment_tolerance", self.increment_tolerance)
         check_integer("max_iterations", self.max_iterations, 1)
         check_positive("divergence_factor", self.divergence_factor)
+        check_integer("line_search", self.line_search, 0, 60)
 
 
 @dataclass(frozen=True)
@@ -176,6 +183,13 @@ def _scaled_norm(values: np.ndarray, scale) -> float:
     return float(np.max(np.abs(values) / scale))
 
 
+def _mean_square(values: np.ndarray, scale) -> float:
+    """Mean square of the scaled residual (inf if not finite): the line search's merit."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        value = float(np.mean((values / scale) ** 2)) if values.size else 0.0
+    return value if np.isfinite(value) else np.inf
+
+
 def newton_solve(
     problem: NonlinearProblem,
     state: np.ndarray,
@@ -198,8 +212,16 @@ def newton_solve(
         except RuntimeError:  # SuperLU: "Factor is exactly singular"
             reason = "singular"
             break
-        state = state + increment
-        residual, jacobian = problem.evaluate(state, load_factor)
+        merit = _mean_square(residual, problem.residual_scale)
+        trial = state + increment
+        residual, jacobian = problem.evaluate(trial, load_factor)
+        for _ in range(options.line_search):
+            if _mean_square(residual, problem.residual_scale) < merit:
+                break
+            increment = 0.5 * increment
+            trial = state + increment
+            residual, jacobian = problem.evaluate(trial, load_factor)
+        state = trial
         residual_norms.append(_scaled_norm(residual, problem.residual_scale))
         increment_norms.append(_scaled_norm(increment, problem.state_scale))
         logger.debug(

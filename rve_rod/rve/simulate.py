@@ -44,13 +44,15 @@ class RveSettings:
     Attributes:
         cell: discretization and modelling choices of the cell.
         yarn: choices of the yarn model (second moment, friction on/off, ...).
-        newton: Newton tolerances and iteration limit.
+        newton: Newton tolerances and iteration limit; by default with up to 4 line-search
+            halvings per iteration (contacts that barely touch and an almost unloaded free
+            direction can make plain Newton cycle; docs/rve.md).
         stepping: load stepping and cutback.
     """
 
     cell: CellSettings = field(default_factory=CellSettings)
     yarn: YarnSettings = field(default_factory=YarnSettings)
-    newton: NewtonOptions = field(default_factory=NewtonOptions)
+    newton: NewtonOptions = field(default_factory=lambda: NewtonOptions(line_search=4))
     stepping: SteppingOptions = field(default_factory=SteppingOptions)
 
 
@@ -70,7 +72,8 @@ class RveStep:
         force_n: the reaction along the load direction, sum_ab D_ab reaction_ab (N).
         force_gf_per_cm: P : D, the force per width along the load direction (gf/cm).
         lateral_strain: F_aa - 1 of the free normal component (uniaxial cases), else None.
-        newton_iterations: Newton iterations of this step (all substeps and failed tries).
+        newton_iterations: Newton iterations of this step (all substeps and failed tries;
+            line-search trials count as iterations).
         substeps: converged substeps; cutbacks: failed tries that halved the increment.
         active_contacts, sliding_contacts: contact points in contact / slipping.
         max_penetration: largest penetration g = 2r - d (mm).
