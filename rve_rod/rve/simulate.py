@@ -46,13 +46,17 @@ class RveSettings:
         yarn: choices of the yarn model (second moment, friction on/off, ...).
         newton: Newton tolerances and iteration limit; by default with up to 4 line-search
             halvings per iteration (contacts that barely touch and an almost unloaded free
-            direction can make plain Newton cycle; docs/rve.md).
+            direction can make plain Newton cycle; docs/rve.md) and the natural column
+            ordering of the LU (the cell's unknowns run along the yarn; the periodic link
+            and the macro unknowns add a few dense rows and columns at the end).
         stepping: load stepping and cutback.
     """
 
     cell: CellSettings = field(default_factory=CellSettings)
     yarn: YarnSettings = field(default_factory=YarnSettings)
-    newton: NewtonOptions = field(default_factory=lambda: NewtonOptions(line_search=4))
+    newton: NewtonOptions = field(
+        default_factory=lambda: NewtonOptions(line_search=4, ordering="NATURAL")
+    )
     stepping: SteppingOptions = field(default_factory=SteppingOptions)
 
 

@@ -145,3 +145,15 @@ def test_line_search_breaks_a_newton_cycle():
     root = np.roots([1, 0, -2, 2])
     assert searched.state[0] == pytest.approx(root[np.abs(root.imag) < 1e-12].real[0], abs=1e-12)
     assert min(convergence_orders(searched.residual_norms)) > 1.8  # still Newton at the end
+
+
+@pytest.mark.parametrize("ordering", ["COLAMD", "NATURAL", "MMD_ATA", "MMD_AT_PLUS_A"])
+def test_every_lu_ordering_gives_the_same_newton_path(ordering):
+    reference = newton_solve(cubic_problem(), np.array([3.0, 4.0]), 1.0)
+    result = newton_solve(
+        cubic_problem(), np.array([3.0, 4.0]), 1.0, NewtonOptions(ordering=ordering)
+    )
+    assert result.iterations == reference.iterations
+    np.testing.assert_allclose(result.residual_norms, reference.residual_norms, rtol=1e-10)
+    with pytest.raises(InputError, match="ordering='AMD' is unknown"):
+        NewtonOptions(ordering="AMD")
