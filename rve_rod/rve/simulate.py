@@ -124,7 +124,8 @@ class RveResult:
         curve: the reference centreline of the cell's patch (knots and degree of every
             deformed centreline).
         centrelines: (s, n, 3) control points of the centreline at each step (mm).
-        newton_iterations: all Newton iterations of the run, including the zero-strain one.
+        newton_iterations: all Newton iterations of the run (as counted per step), including
+            the zero-strain solve and, for a run that stopped, the tries after its last state.
         wall_time_s: wall time of the run, model building included (s).
     """
 
@@ -364,7 +365,9 @@ def run_cell(
         )
     recorder.snapshot(initial.state, 0.0)
     recorder.problem.commit(initial.state, 0.0)
-    add(recorder.snapshots.pop(), newton_iterations=initial.iterations, substeps=1, cutbacks=0)
+    first = recorder.snapshots.pop()
+    add(first, newton_iterations=first.evaluations - 1, substeps=1, cutbacks=0)
+    unfinished = 0  # iterations spent after the last output state (a run that stopped)
     try:
         path = solve_path(
             problem, initial.state, targets, stepping=settings.stepping, newton=settings.newton
@@ -373,6 +376,8 @@ def run_cell(
     except ConvergenceError as error:
         path = error.history
         message, complete = str(error), False
+        stopped = error.last_converged
+        unfinished = recorder.evaluations - stopped.substeps - stopped.cutbacks
     for record, snapshot in zip(path.steps[1:], recorder.snapshots, strict=False):
         attempts = record.substeps + record.cutbacks
         add(
@@ -381,7 +386,8 @@ def run_cell(
             substeps=record.substeps,
             cutbacks=record.cutbacks,
         )
-    outcome = result(complete, message, initial.iterations + path.newton_iterations)
+    iterations = sum(step.newton_iterations for step in steps) + max(unfinished, 0)
+    outcome = result(complete, message, iterations)
     if not complete:
         raise ConvergenceError(
             f"{case.name} stopped at strain {steps[-1].strain:.4g} "
