@@ -73,9 +73,11 @@ class LoadCase:
         return np.eye(2) + load_factor * (self.final_deformation() - np.eye(2))
 
     def load_direction(self) -> np.ndarray:
-        """dF/dt normalized (2, 2): the measured force is P : direction (N/mm)."""
+        """The unit direction D (2, 2) of the measured force P : D (N/mm): dF/dt normalized,
+        with the sign of the control value, so that a uniaxial or strip case measures P11
+        (P22) and a compressive one reports a negative force at a negative strain."""
         rate = self.final_deformation() - np.eye(2)
-        return rate / np.linalg.norm(rate)
+        return np.sign(self.control()) * rate / np.linalg.norm(rate)
 
     @property
     def lateral(self) -> tuple[int, int] | None:

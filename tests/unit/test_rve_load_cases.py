@@ -56,7 +56,9 @@ def test_biaxial_ray_direction_and_compression():
     F = ray.prescribed(1.0)
     np.testing.assert_allclose(np.diag(F), [1 + 0.1 * math.cos(math.radians(210)), 0.95])
     np.testing.assert_allclose(np.diag(ray.load_direction()), [-math.sqrt(3) / 2, -0.5])
-    assert load_case("uniaxial-course", -0.1).prescribed(1.0)[0, 0] == pytest.approx(0.9)
+    compression = load_case("uniaxial-course", -0.1)
+    assert compression.prescribed(1.0)[0, 0] == pytest.approx(0.9)
+    np.testing.assert_allclose(compression.load_direction(), [[1, 0], [0, 0]])  # P11 itself
 
 
 @pytest.mark.parametrize(
