@@ -1,8 +1,9 @@
-"""Accuracy of `measure_photo` on synthetic photos with known w, c and angle: markdown tables.
+"""Accuracy and time of `measure_photo` on synthetic photos with known w, c and angle.
 
-Run: .venv/bin/python benchmarks/imaging_accuracy.py [--random N] (prints the tables of
-docs/imaging.md). Photos are 512 x 512 px at 25 px/mm unless a condition says otherwise;
-the yarn is drawn with the adjusted radius min(r0, w/8) of each fabric.
+Run: .venv/bin/python benchmarks/imaging_accuracy.py [--random N] [--timing] (prints the
+markdown tables of docs/imaging.md; with --timing only the time table of docs/benchmarks.md).
+Photos are 512 x 512 px at 25 px/mm unless a condition says otherwise; the yarn is drawn
+with the adjusted radius min(r0, w/8) of each fabric.
 """
 
 import argparse
@@ -155,10 +156,44 @@ def random_photos(count: int) -> None:
     )
 
 
+def timing_table(repeats: int = 3) -> None:
+    print("| photo px | loops across | render s | measure s | tiles |")
+    print("|---|---|---|---|---|")
+    for size in (256, 512, 1024, 2048):
+        photo = SyntheticPhoto(
+            1.33,
+            1.26,
+            0.166,
+            pixels_per_mm=25.0 * size / 512,
+            width_px=size,
+            height_px=size,
+            angle_deg=15.0,
+            blur_mm=0.04,
+            noise=0.1,
+            lighting=0.4,
+        )
+        start = time.perf_counter()
+        image = render_photo(photo)
+        render = time.perf_counter() - start
+        seconds = []
+        for _ in range(repeats):
+            start = time.perf_counter()
+            estimate = measure_photo(image, photo.pixels_per_mm)
+            seconds.append(time.perf_counter() - start)
+        print(
+            f"| {size} | {estimate.wales_in_image:.0f} | {render:.2f} | {min(seconds):.2f} | "
+            f"{estimate.tiles_used} |"
+        )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--random", type=int, default=200, help="number of random photos")
+    parser.add_argument("--timing", action="store_true", help="only the time table")
     args = parser.parse_args()
+    if args.timing:
+        timing_table()
+        return
     grid_table()
     print()
     few_loops_table()

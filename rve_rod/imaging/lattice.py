@@ -185,18 +185,19 @@ def confirm_periods(
     """The true periods of the image, starting from the spectrum's lattice (2, 2).
 
     In a small photo the weak odd-order peaks can drown, and the spectrum's lattice is then
-    finer than the fabric's (e.g. w/2 from the two legs of a loop). A lattice vector v is
-    not a period if the image correlates with itself shifted by v less than `ratio` times as
-    well as shifted by 2 v. A lattice too fine by index 2 fails on two of its three vectors
-    a1, a2, a1 + a2 (noise can make one vector of the right lattice fail marginally). The
-    spectrum's lattice is kept unless it fails so; then its coarser lattices of index 2,
-    then 4 (Hermite normal forms) are tried, and the first of which two vectors pass (with
-    the doubled vector inside the photo and a correlation >= `min_correlation`) is taken,
-    of several the one with the best median ratio. The image is smoothed first (Gaussian,
-    1/6 of the shortest period) so that pixel noise does not mask the correlation.
+    finer than the fabric's (e.g. w/2 from the two legs of a loop). The image is smoothed
+    (Gaussian, 1/6 of the shortest period, so that pixel noise does not mask it) and
+    correlated with itself shifted by a lattice vector v and by 2 v. The vector passes if
+    its correlation is at least `min_correlation` and `ratio` times the larger of that at
+    2 v and the best seen for any vector tried so far (what a true period reaches in this
+    photo); it fails if it is below `ratio` times that.
 
-    Raises InputError if the kept lattice has fewer than two vectors correlating at least
-    `min_correlation`, or no coarser lattice passes: the photo is not periodic.
+    A lattice passes if two of its vectors a1, a2, a1 + a2 pass (noise can make one vector
+    of the right lattice fail marginally; a lattice too fine by index 2 fails on two). The
+    spectrum's lattice is kept if it passes. If two of its vectors fail, its coarser
+    lattices of index 2, then 4 (Hermite normal forms) are tried and the first that passes
+    is taken, of several the one with the best median ratio. Anything else raises
+    InputError: the photo does not show whether (or with what) it repeats.
     """
     basis = np.array(real_basis, dtype=float)
     shortest = min(np.linalg.norm(basis[:, 0]), np.linalg.norm(basis[:, 1]))
@@ -214,22 +215,27 @@ def confirm_periods(
         vectors = (u, v, u + v)
         values = np.array([correlation(vector) for vector in vectors])
         references = np.array([correlation(2.0 * vector) for vector in vectors])
-        return np.column_stack([u, v]), values, references
+        # What a true period reaches in this photo: the best correlation seen so far. (Of a
+        # lattice too fine by index 2 or 4, one of 2 u, 2 v, 2 (u + v) is a true period.)
+        level = np.nanmax(list(correlation_of.values()))
+        reference = np.fmax(references, level)
+        # NaN (too little overlap) compares False: such a vector neither passes nor fails.
+        passed = (values >= ratio * reference) & (values >= min_correlation)
+        failed = values < ratio * reference
+        return np.column_stack([u, v]), values, reference, passed, failed
 
-    spectral, values, references = evaluate(np.eye(2, dtype=int))
-    failing = np.count_nonzero(values < ratio * references)  # NaN compares False
-    if failing < 2:
-        if np.count_nonzero(values >= min_correlation) < 2:
-            raise InputError(
-                "no periodic structure: the photo hardly correlates with itself shifted by "
-                f"the lattice vectors of its spectrum ({_listing(values)} < {min_correlation:g})"
-            )
+    spectral, values, _, passed, failed = evaluate(np.eye(2, dtype=int))
+    if np.count_nonzero(passed) >= 2:
         return Periods(spectral, values)
+    if np.count_nonzero(failed) < 2:
+        raise InputError(
+            "no periodic structure: the photo hardly repeats with the lattice vectors of its "
+            f"spectrum (correlations {_listing(values)}, at least {min_correlation:g} needed)"
+        )
     for index in (2, 4):
         passing = []
         for coarse in _sublattices(index):
-            candidate, values, references = evaluate(coarse)
-            passed = (values >= ratio * np.maximum(references, 0.0)) & (values >= min_correlation)
+            candidate, values, references, passed, _ = evaluate(coarse)
             if np.count_nonzero(passed) >= 2:
                 median = np.median(values / np.maximum(references, 1e-3))
                 passing.append((median, candidate, values))

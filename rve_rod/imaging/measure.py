@@ -28,10 +28,11 @@ from rve_rod.imaging.lattice import (
     spans_plane,
 )
 from rve_rod.imaging.spectrum import (
-    annulus_background,
+    annulus_medians,
     find_peaks,
     flatten_illumination,
     power_spectrum,
+    ring_index,
     strongest_near,
 )
 from rve_rod.presets import Knit
@@ -47,8 +48,9 @@ class MeasureOptions:
     """Settings of the photo measurement; the defaults suit photos of 200-2000 pixels.
 
     Attributes:
-        threshold: minimum peak power over its annulus' median power (-): 20 keeps the
-            false-alarm rate of pure noise (exponential power) below 1e-6 per bin.
+        threshold: minimum peak power over its annulus' median power (-). In pure noise
+            the strongest local maximum of a 512 x 512 photo's spectrum reaches about 20
+            (24 at most over 20 photos), so 30 leaves false peaks out.
         max_peaks: number of strongest peaks indexed and fitted.
         max_frequency: highest frequency searched (cycles per pixel), below Nyquist 0.5 so
             that aliased harmonics stay out.
@@ -61,10 +63,11 @@ class MeasureOptions:
             a lattice vector (-): below it the photo is not taken as periodic.
         tiles: the photo is cut into tiles x tiles pieces for the uncertainty (fewer if a
             tile would hold fewer than min_loops wales or courses).
-        max_side: photos with a longer side (pixels) are block-averaged down to it first.
+        max_side: photos with a longer side (pixels) are block-averaged down to it first,
+            which bounds time and memory; a loop should keep 5 pixels or more after it.
     """
 
-    threshold: float = 20.0
+    threshold: float = 30.0
     max_peaks: int = 40
     max_frequency: float = 0.35
     min_cycles: float = 1.5
@@ -73,7 +76,7 @@ class MeasureOptions:
     min_loops: float = 3.0
     min_correlation: float = 0.2
     tiles: int = 3
-    max_side: int = 2048
+    max_side: int = 1024
 
     def __post_init__(self):
         check_range("threshold", self.threshold, 2.0, math.inf)
@@ -315,16 +318,13 @@ def _tile_values(
         for col in range(tiles):
             tile = contrast[row * height : (row + 1) * height, col * width : (col + 1) * width]
             spectrum = power_spectrum(tile - tile.mean(), options.pad_factor)
-            rows, cols = np.indices(spectrum.power.shape)
-            radius = np.linalg.norm(spectrum.frequency(rows, cols), axis=-1)
-            background = annulus_background(spectrum, radius)
+            medians = annulus_medians(spectrum)
             found, keep = [], []
             for frequency in predicted:
                 refined, power = strongest_near(spectrum, frequency, radius_bins=1.0)
-                row_bin, col_bin = np.rint(spectrum.bin_of(refined)).astype(int)
-                level = background[row_bin % background.shape[0], col_bin % background.shape[1]]
+                ring = min(ring_index(spectrum, np.linalg.norm(refined)), medians.size - 1)
                 found.append(refined)
-                keep.append(power >= options.threshold * level)
+                keep.append(power >= options.threshold * medians[ring])
             keep = np.array(keep)
             if not spans_plane(indices[keep]):
                 continue

@@ -46,6 +46,11 @@ class PowerSpectrum(NamedTuple):
         fy = -(np.asarray(rows, dtype=float) - height // 2) / height
         return np.stack([fx, fy], axis=-1)
 
+    def frequency_axes(self) -> tuple[np.ndarray, np.ndarray]:
+        """fx of the columns (P_w,) and fy of the rows (P_h,), cycles per pixel, Y up."""
+        height, width = self.power.shape
+        return (np.arange(width) - width // 2) / width, -(np.arange(height) - height // 2) / height
+
     def bin_of(self, frequency: np.ndarray) -> np.ndarray:
         """Fractional (row, col) of frequencies (..., 2); the inverse of `frequency`."""
         height, width = self.power.shape
@@ -77,10 +82,19 @@ def flatten_illumination(image: np.ndarray) -> np.ndarray:
     frequencies. Raises InputError for a flat image (no structure to measure).
     """
     height, width = image.shape
+    # A smooth surface of 6 coefficients: fitted to the means of stride x stride blocks
+    # (a low-pass, so the texture does not alias into it), then evaluated everywhere.
+    stride = max(1, min(height, width) // 128)
+    rows, cols = (height // stride) * stride, (width // stride) * stride
+    blocks = image[:rows, :cols].reshape(rows // stride, stride, cols // stride, stride)
+    coordinate_v = np.linspace(-1, 1, height)[:rows].reshape(-1, stride).mean(axis=1)
+    coordinate_u = np.linspace(-1, 1, width)[:cols].reshape(-1, stride).mean(axis=1)
+    v, u = np.meshgrid(coordinate_v, coordinate_u, indexing="ij")
+    coefficients, *_ = np.linalg.lstsq(
+        _quadratic_terms(u, v).reshape(-1, 6), blocks.mean(axis=(1, 3)).ravel(), rcond=None
+    )
     v, u = np.meshgrid(np.linspace(-1, 1, height), np.linspace(-1, 1, width), indexing="ij")
-    design = np.stack([np.ones_like(u), u, v, u * u, u * v, v * v], axis=-1).reshape(-1, 6)
-    coefficients, *_ = np.linalg.lstsq(design, image.ravel(), rcond=None)
-    surface = (design @ coefficients).reshape(image.shape)
+    surface = _quadratic_terms(u, v) @ coefficients
     scale = np.abs(surface).max()
     residual = image - surface
     if not scale > 0.0 or residual.std() <= FLATNESS * scale:
@@ -102,26 +116,27 @@ def power_spectrum(contrast: np.ndarray, pad_factor: int = 2) -> PowerSpectrum:
     return PowerSpectrum(power=power, image_shape=(height, width))
 
 
-def annulus_background(spectrum: PowerSpectrum, radius: np.ndarray) -> np.ndarray:
-    """Median power of the annulus (one image frequency bin wide) through each bin.
+def annulus_medians(spectrum: PowerSpectrum) -> np.ndarray:
+    """Median power of each annulus k <= |f| min(H, W) < k + 1 (one image bin wide), (K,).
 
     The medians are taken over the bins of the unpadded transform (every pad-th bin; the
     ones between are interpolated from them and add no information).
-
-    Args:
-        radius: |f| of each bin (cycles per pixel), the shape of the power.
     """
-    ring = np.floor(radius * min(spectrum.image_shape)).astype(np.int64)
     step_rows = max(1, spectrum.power.shape[0] // spectrum.image_shape[0])
     step_cols = max(1, spectrum.power.shape[1] // spectrum.image_shape[1])
-    sample_ring = ring[::step_rows, ::step_cols].ravel()
+    fx, fy = spectrum.frequency_axes()
+    rings = ring_index(spectrum, np.hypot(fx[None, ::step_cols], fy[::step_rows, None])).ravel()
     sample = spectrum.power[::step_rows, ::step_cols].ravel()
     # One sort orders by ring, then by power within the ring (power scaled into [0, 0.5]).
-    order = np.argsort(sample_ring + 0.5 * sample / max(sample.max(), np.finfo(float).tiny))
-    starts = np.searchsorted(sample_ring[order], np.arange(ring.max() + 2))
+    order = np.argsort(rings + 0.5 * sample / max(sample.max(), np.finfo(float).tiny))
+    starts = np.searchsorted(rings[order], np.arange(rings.max() + 2))
     middle = starts[:-1] + np.maximum(np.diff(starts) - 1, 0) // 2
-    medians = sample[order][np.minimum(middle, sample.size - 1)]
-    return medians[ring]
+    return sample[order][np.minimum(middle, sample.size - 1)]
+
+
+def ring_index(spectrum: PowerSpectrum, radius: np.ndarray) -> np.ndarray:
+    """The annulus of `annulus_medians` holding frequencies of magnitude `radius` (cycles/px)."""
+    return np.floor(np.asarray(radius) * min(spectrum.image_shape)).astype(np.int64)
 
 
 def find_peaks(
@@ -144,35 +159,28 @@ def find_peaks(
     pad = max(1, round(min(height / spectrum.image_shape[0], width / spectrum.image_shape[1])))
     # Two image bins each side: wider than the Hann main lobe, so side lobes are no peaks.
     footprint = 4 * pad + 1
+    fx, fy = spectrum.frequency_axes()
+    radius = np.hypot(fx[None, :], fy[:, None])
+    cycles = np.hypot(fx[None, :] * spectrum.image_shape[1], fy[:, None] * spectrum.image_shape[0])
+    half_plane = (fy[:, None] > 0) | ((fy[:, None] == 0) & (fx[None, :] > 0))
+    band = half_plane & (cycles >= min_cycles) & (radius <= max_frequency) & (power > 0)
     is_peak = power == scipy.ndimage.maximum_filter(power, size=footprint, mode="wrap")
-    rows, cols = np.indices(power.shape)
-    frequency = spectrum.frequency(rows, cols)
-    radius = np.linalg.norm(frequency, axis=-1)
-    background = annulus_background(spectrum, radius)
-    cycles = np.hypot(
-        frequency[..., 0] * spectrum.image_shape[1], frequency[..., 1] * spectrum.image_shape[0]
-    )
-    half_plane = (frequency[..., 1] > 0) | ((frequency[..., 1] == 0) & (frequency[..., 0] > 0))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        significance = np.where(background > 0, power / background, np.inf)
-    keep = (
-        is_peak
-        & half_plane
-        & (cycles >= min_cycles)
-        & (radius <= max_frequency)
-        & (significance >= threshold)
-        & (power > 0)
-    )
-    keep &= power >= DYNAMIC_RANGE * power[keep].max(initial=0.0)
-    peak_rows, peak_cols = np.nonzero(keep)
-    order = np.argsort(-power[peak_rows, peak_cols])[:max_peaks]
-    peak_rows, peak_cols = peak_rows[order], peak_cols[order]
-    refined = np.array([refine_bin(power, r, c) for r, c in zip(peak_rows, peak_cols, strict=True)])
+    rows, cols = np.nonzero(is_peak & band)
+    medians = annulus_medians(spectrum)
+    background = medians[ring_index(spectrum, radius[rows, cols])]
+    with np.errstate(divide="ignore"):
+        significance = np.where(background > 0, power[rows, cols] / background, np.inf)
+    keep = significance >= threshold
+    keep &= power[rows, cols] >= DYNAMIC_RANGE * power[rows, cols][keep].max(initial=0.0)
+    rows, cols, significance = rows[keep], cols[keep], significance[keep]
+    order = np.argsort(-power[rows, cols])[:max_peaks]
+    rows, cols, significance = rows[order], cols[order], significance[order]
+    refined = np.array([refine_bin(power, r, c) for r, c in zip(rows, cols, strict=True)])
     refined = refined.reshape(-1, 2)
     return SpectralPeaks(
         frequencies=spectrum.frequency(refined[:, 0], refined[:, 1]),
-        power=power[peak_rows, peak_cols],
-        significance=significance[peak_rows, peak_cols],
+        power=power[rows, cols],
+        significance=significance,
     )
 
 
@@ -206,6 +214,11 @@ def strongest_near(
     best_row, best_col = np.unravel_index(np.argmax(window), window.shape)
     refined = refine_bin(power, rows[best_row], cols[best_col])
     return spectrum.frequency(*refined), float(window[best_row, best_col])
+
+
+def _quadratic_terms(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """The monomials 1, u, v, u^2, u v, v^2 stacked on a last axis, shape (..., 6)."""
+    return np.stack([np.ones_like(u), u, v, u * u, u * v, v * v], axis=-1)
 
 
 def _vertex(log_values: np.ndarray) -> float:
