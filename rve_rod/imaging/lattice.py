@@ -31,6 +31,9 @@ from rve_rod.errors import InputError
 
 logger = logging.getLogger(__name__)
 
+MIN_INDEXED = 3
+"""Fewest peaks a lattice must index: two independent peaks fit any lattice containing them."""
+
 MIN_OVERLAP = 0.05
 """Smallest overlap (fraction of the photo) of a shifted photo worth a correlation."""
 
@@ -128,8 +131,8 @@ def index_peaks(
             hit the few strongest peaks by chance, hardly most of them.
         max_candidates: number of shortest candidate vectors paired into bases.
 
-    Raises InputError when fewer than two independent peaks exist or no lattice indexes the
-    strongest peaks: the texture is not periodic.
+    Raises InputError when no lattice indexes the strongest peaks, most of the power and of
+    the peaks, and at least MIN_INDEXED of them: the texture is not (visibly) periodic.
     """
     frequencies = np.asarray(frequencies, dtype=float)
     power = np.asarray(power, dtype=float)
@@ -147,7 +150,8 @@ def index_peaks(
             strongest = fit.indexed[: min(3, fit.indexed.size)]
             explained = power[fit.indexed].sum() / power.sum()
             share = fit.indexed.mean()
-            if np.all(strongest) and explained >= power_fraction and share >= count_fraction:
+            enough = fit.indexed.sum() >= MIN_INDEXED and share >= count_fraction
+            if np.all(strongest) and explained >= power_fraction and enough:
                 admissible.append((abs(np.linalg.det(fit.basis)), explained, fit))
     if not admissible:
         raise InputError(
@@ -195,8 +199,9 @@ def confirm_periods(
     A lattice passes if two of its vectors a1, a2, a1 + a2 pass (noise can make one vector
     of the right lattice fail marginally; a lattice too fine by index 2 fails on two). The
     spectrum's lattice is kept if it passes. If two of its vectors fail, its coarser
-    lattices of index 2, then 4 (Hermite normal forms) are tried and the first that passes
-    is taken, of several the one with the best median ratio. Anything else raises
+    lattices of index 2, then 4 (Hermite normal forms) are all correlated, then judged; the
+    first index with a passing lattice gives it (of several, the one with the best median
+    ratio). Anything else raises
     InputError: the photo does not show whether (or with what) it repeats.
     """
     basis = np.array(real_basis, dtype=float)
@@ -215,16 +220,18 @@ def confirm_periods(
         vectors = (u, v, u + v)
         values = np.array([correlation(vector) for vector in vectors])
         references = np.array([correlation(2.0 * vector) for vector in vectors])
-        # What a true period reaches in this photo: the best correlation seen so far. (Of a
-        # lattice too fine by index 2 or 4, one of 2 u, 2 v, 2 (u + v) is a true period.)
-        level = np.nanmax(list(correlation_of.values()))
-        reference = np.fmax(references, level)
+        return np.column_stack([u, v]), values, references
+
+    def judge(values: np.ndarray, references: np.ndarray):
+        # What a true period reaches in this photo: the best correlation of any shift tried.
+        # (Of a lattice too fine by index 2 or 4, one of 2 u, 2 v, 2 (u + v) is a period.)
+        reference = np.fmax(references, np.nanmax(list(correlation_of.values())))
         # NaN (too little overlap) compares False: such a vector neither passes nor fails.
         passed = (values >= ratio * reference) & (values >= min_correlation)
-        failed = values < ratio * reference
-        return np.column_stack([u, v]), values, reference, passed, failed
+        return passed, values < ratio * reference, reference
 
-    spectral, values, _, passed, failed = evaluate(np.eye(2, dtype=int))
+    spectral, values, references = evaluate(np.eye(2, dtype=int))
+    passed, failed, _ = judge(values, references)
     if np.count_nonzero(passed) >= 2:
         return Periods(spectral, values)
     if np.count_nonzero(failed) < 2:
@@ -233,12 +240,12 @@ def confirm_periods(
             f"spectrum (correlations {_listing(values)}, at least {min_correlation:g} needed)"
         )
     for index in (2, 4):
+        candidates = [evaluate(coarse) for coarse in _sublattices(index)]
         passing = []
-        for coarse in _sublattices(index):
-            candidate, values, references, passed, _ = evaluate(coarse)
+        for candidate, values, references in candidates:
+            passed, _, reference = judge(values, references)
             if np.count_nonzero(passed) >= 2:
-                median = np.median(values / np.maximum(references, 1e-3))
-                passing.append((median, candidate, values))
+                passing.append((np.median(values / np.maximum(reference, 1e-3)), candidate, values))
         if passing:
             logger.info("the photo repeats with a cell %d times the spectrum's", index)
             _, chosen, values = max(passing, key=lambda item: item[0])

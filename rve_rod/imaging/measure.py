@@ -19,6 +19,7 @@ import numpy as np
 from rve_rod.errors import InputError, check_integer, check_positive, check_range
 from rve_rod.imaging.image_io import read_image, to_grayscale
 from rve_rod.imaging.lattice import (
+    MIN_INDEXED,
     LatticeFit,
     coarsen_fit,
     confirm_periods,
@@ -228,10 +229,11 @@ def _lattice_of(contrast: np.ndarray, options: MeasureOptions) -> LatticeFit:
     peaks = find_peaks(
         spectrum, options.threshold, options.min_cycles, options.max_frequency, options.max_peaks
     )
-    if peaks.power.size < 2:
+    if peaks.power.size < MIN_INDEXED:
         raise InputError(
             f"no periodic structure: {peaks.power.size} spectral peak(s) stand "
-            f"{options.threshold:g} times above the background, 2 or more are needed"
+            f"{options.threshold:g} times above the background, {MIN_INDEXED} or more "
+            "are needed"
         )
     tolerance = 0.5 / min(contrast.shape)
     fit = index_peaks(

@@ -143,6 +143,20 @@ def test_half_wale_lattice_is_doubled_to_the_true_one():
     assert np.linalg.norm(cell.course_vector) == pytest.approx(0.88 * 30.0, rel=1e-9)
 
 
+@pytest.mark.parametrize(
+    "fine",
+    [np.diag([0.5, 0.5]), np.array([[0.0, 0.5], [0.5, 0.25]])],
+    ids=["half-both", "cyclic-index-4"],
+)
+def test_lattice_too_fine_by_four_is_coarsened_to_the_true_one(fine):
+    # (w/2, c/2), and (0, c/2), (w/2, c/4): a lattice of which 2 v is no period for some v.
+    contrast, real = face_photo()
+    periods = confirm_periods(contrast, real @ fine, min_correlation=0.2)
+    cell = fabric_cell(periods.basis)
+    assert np.linalg.norm(cell.wale_vector) == pytest.approx(1.26 * 30.0, rel=1e-9)
+    assert np.linalg.norm(cell.course_vector) == pytest.approx(0.88 * 30.0, rel=1e-9)
+
+
 def test_noise_does_not_repeat():
     noise = np.random.default_rng(0).normal(size=(130, 160))
     with pytest.raises(InputError, match="no periodic structure"):

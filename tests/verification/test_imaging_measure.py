@@ -180,26 +180,27 @@ def test_knit_from_a_photo_file(tmp_path):
     assert knit.course_height == pytest.approx(1.64, rel=0.02)
 
 
-def few_loops(loops):
+@pytest.mark.parametrize(
+    ("loops", "scale", "angle"),
+    [(1.5, 30.0, 8.0), (2.0, 30.0, 8.0), (2.6, 30.0, 8.0), (2.0, 40.0, 10.0)],
+)
+def test_photo_of_fewer_than_three_loops_is_refused(loops, scale, angle):
+    # (2.0, 40, 10): its spectrum alone suggests (w/2, c/3), a lattice that "fits" 4 x 6 loops.
     w, c = 1.33, 1.26
-    return SyntheticPhoto(
+    photo = SyntheticPhoto(
         w,
         c,
         0.166,
-        pixels_per_mm=30.0,
-        width_px=int(loops * w * 30),
-        height_px=int(loops * c * 30),
-        angle_deg=8.0,
-        noise=0.1,
+        pixels_per_mm=scale,
+        width_px=int(loops * w * scale),
+        height_px=int(loops * c * scale),
+        angle_deg=angle,
+        noise=0.05,
         blur_mm=0.03,
         seed=1,
     )
-
-
-@pytest.mark.parametrize("loops", [1.5, 2.0, 2.6])
-def test_photo_of_fewer_than_three_loops_is_refused(loops):
     with pytest.raises(InputError, match="at least 3"):
-        measure_photo(render_photo(few_loops(loops)), 30.0)
+        measure_photo(render_photo(photo), scale)
 
 
 @pytest.mark.parametrize(
