@@ -112,7 +112,7 @@ def few_loops_table() -> None:
         print(f"| {loops:g} | {cells[0]} | {cells[1]} |")
 
 
-def random_photos(count: int) -> None:
+def random_photos(count: int, loops_range: tuple[float, float]) -> None:
     rng = np.random.default_rng(2024)
     errors, refused, z = [], 0, []
     for seed in range(count):
@@ -120,7 +120,7 @@ def random_photos(count: int) -> None:
         c = w * rng.uniform(0.55, 1.3)
         r = min(w / 8, rng.uniform(0.09, 0.19))
         scale = rng.uniform(8, 40)
-        loops = rng.uniform(3.5, 20)
+        loops = rng.uniform(*loops_range)
         size = max(int(loops * max(w, c) * scale), 40)
         photo = SyntheticPhoto(
             w,
@@ -148,8 +148,12 @@ def random_photos(count: int) -> None:
         )
         z.extend(np.abs(error) / uncertainty)
     errors, z = np.array(errors), np.array(z)
+    if errors.size == 0:
+        print(f"{count} random photos of {loops_range} loops: all refused")
+        return
     print(
-        f"{count} random photos: {refused} refused (InputError); of the {errors.size} measured, "
+        f"{count} random photos of {loops_range[0]:g}-{loops_range[1]:g} loops (along the "
+        f"longer period): {refused} refused (InputError); of the {errors.size} measured, "
         f"max error {100 * errors.max():.2f} %, {np.mean(errors > 0.02) * 100:.1f} % beyond 2 %, "
         f"median {100 * np.median(errors):.3f} %; |error| / uncertainty: median "
         f"{np.median(z):.2f}, {100 * np.mean(z < 2):.0f} % below 2"
@@ -198,7 +202,8 @@ def main() -> None:
     print()
     few_loops_table()
     print()
-    random_photos(args.random)
+    random_photos(args.random, (3.5, 20.0))
+    random_photos(args.random, (1.5, 3.2))
 
 
 if __name__ == "__main__":
