@@ -273,8 +273,9 @@ def _sublattices(index: int) -> list[np.ndarray]:
     return bases
 
 
-def coarsen_fit(frequencies: np.ndarray, fit: LatticeFit, real_basis: np.ndarray) -> LatticeFit:
-    """The fit re-expressed on a coarser real-space lattice (2, 2) containing the fitted one.
+def refit_on(frequencies: np.ndarray, fit: LatticeFit, real_basis: np.ndarray) -> LatticeFit:
+    """The fit re-expressed on a real-space lattice (2, 2) contained in the fitted one (the
+    same lattice in another basis, or a coarser one from `confirm_periods`).
 
     The peaks the fit indexed stay indexed (a finer reciprocal lattice contains the old
     one); their indices change to the new basis and the basis is refitted to them.

@@ -21,11 +21,11 @@ from rve_rod.imaging.image_io import read_image, to_grayscale
 from rve_rod.imaging.lattice import (
     MIN_INDEXED,
     LatticeFit,
-    coarsen_fit,
     confirm_periods,
     fabric_cell,
     fit_basis,
     index_peaks,
+    refit_on,
     spans_plane,
 )
 from rve_rod.imaging.spectrum import (
@@ -194,7 +194,7 @@ def measure_photo(
         uncertainty = samples.std(axis=0, ddof=1) / math.sqrt(samples.shape[0])
         tiles_used = samples.shape[0]
     else:
-        logger.info("uncertainty from the fit residuals: too few tiles show the lattice")
+        logger.info("uncertainty from the fit residuals: no 2 tiles hold and show 3 loops")
         uncertainty = _fit_uncertainty(fit, coefficients, scale)
         tiles_used = 1
     wale_vector = cell.wale_vector / scale
@@ -243,11 +243,8 @@ def _lattice_of(contrast: np.ndarray, options: MeasureOptions) -> LatticeFit:
         min_length=1.0 / max(contrast.shape),
         power_fraction=options.power_fraction,
     )
-    spectral = np.linalg.inv(fit.basis).T
-    periods = confirm_periods(contrast, spectral, options.min_correlation)
-    if np.allclose(periods.basis, spectral):
-        return fit
-    return coarsen_fit(peaks.frequencies, fit, periods.basis)
+    periods = confirm_periods(contrast, np.linalg.inv(fit.basis).T, options.min_correlation)
+    return refit_on(peaks.frequencies, fit, periods.basis)
 
 
 def _cell_values(basis: np.ndarray, coefficients: np.ndarray, scale: float) -> np.ndarray:
