@@ -197,3 +197,28 @@ def second_piola_kirchhoff(E: ufl.core.expr.Expr, law: StressLaw, angle=0.0) -> 
     """S (2, 2) N/mm in the global frame: E -> R^T E R -> law -> R S R^T (R = rotation(angle))."""
     R = rotation(angle)
     return R * law(R.T * E * R) * R.T
+
+
+class Material(NamedTuple):
+    """A membrane material ready for the solvers.
+
+    Attributes:
+        law: the stress law E -> S in the material frame (UFL).
+        domain: (3, 2) [min, max] of E11, E22, E12 where the law rests on data (a response
+            surface's sampled domain; outside it the extension applies), or None.
+        name: a label for output.
+    """
+
+    law: StressLaw
+    domain: np.ndarray | None
+    name: str
+
+
+def surface_material(surface: ResponseSurface, name: str = "response surface") -> Material:
+    """The response-surface law of `surface` with its domain."""
+    return Material(lambda E: surface_stress(E, surface), surface.domain, name)
+
+
+def svk_material(material: OrthotropicSVK, name: str = "orthotropic SVK") -> Material:
+    """The orthotropic Saint Venant-Kirchhoff law (valid everywhere: no domain)."""
+    return Material(lambda E: svk_stress(E, material), None, name)
