@@ -27,7 +27,13 @@ import ufl
 from dolfinx import fem
 from petsc4py import PETSc
 
-from rve_rod.errors import ConvergenceError, InputError, check_integer, check_positive
+from rve_rod.errors import (
+    ConvergenceError,
+    InputError,
+    check_integer,
+    check_positive,
+    check_range,
+)
 
 logger = logging.getLogger(__name__)
 
@@ -46,6 +52,9 @@ class SolverOptions:
         relative_tolerance: Newton converges when the residual 2-norm falls below this times
             the residual at the start of the step (Dirichlet increment included) ...
         absolute_tolerance: ... or below this (N).
+        floor_tolerance: ... or, once below this times the initial residual, when it stops
+            decreasing (halves no more): the round-off floor, reached before a tight
+            relative tolerance on very small steps.
         max_iterations: Newton iterations per attempt before the step is cut back.
         divergence_factor: an attempt fails at once if the residual exceeds this times its
             initial value.
@@ -57,6 +66,7 @@ class SolverOptions:
     steps: int = 20
     relative_tolerance: float = 1e-10
     absolute_tolerance: float = 1e-12
+    floor_tolerance: float = 1e-8
     max_iterations: int = 25
     divergence_factor: float = 1e6
     min_step: float = 1.0 / 1024
@@ -70,6 +80,7 @@ class SolverOptions:
         check_integer("steps", self.steps, 1)
         check_positive("relative_tolerance", self.relative_tolerance)
         check_positive("absolute_tolerance", self.absolute_tolerance, "N")
+        check_range("floor_tolerance", self.floor_tolerance, 0.0, 1.0)
         check_integer("max_iterations", self.max_iterations, 1)
         check_positive("divergence_factor", self.divergence_factor)
         check_positive("min_step", self.min_step)
@@ -198,7 +209,7 @@ class LoadStepper:
         norms = [self._assemble_residual()]
         tolerance = max(options.absolute_tolerance, options.relative_tolerance * norms[0])
         for _ in range(options.max_iterations):
-            if norms[-1] <= tolerance:
+            if _converged(norms, tolerance, options.floor_tolerance):
                 return NewtonResult(True, tuple(norms), "")
             self._matrix.zeroEntries()
             dolfinx.fem.petsc.assemble_matrix(self._matrix, self._jacobian_form, bcs=self.bcs)
@@ -214,7 +225,7 @@ class LoadStepper:
                 return NewtonResult(False, tuple(norms), "residual is not finite")
             if norms[-1] > options.divergence_factor * norms[0]:
                 return NewtonResult(False, tuple(norms), "residual diverged")
-        if norms[-1] <= tolerance:
+        if _converged(norms, tolerance, options.floor_tolerance):
             return NewtonResult(True, tuple(norms), "")
         return NewtonResult(False, tuple(norms), f"not converged in {options.max_iterations}")
 
@@ -293,6 +304,13 @@ class LoadStepper:
                         history=history,
                     )
         return LoadPathResult(tuple(steps), cutbacks, time.perf_counter() - start)
+
+
+def _converged(norms: list[float], tolerance: float, floor_tolerance: float) -> bool:
+    if norms[-1] <= tolerance:
+        return True
+    stalled = len(norms) > 2 and norms[-1] > 0.5 * norms[-2]
+    return stalled and norms[-1] <= floor_tolerance * norms[0]
 
 
 def _linear_solver(matrix: PETSc.Mat, options: SolverOptions) -> PETSc.KSP:
