@@ -19,19 +19,23 @@ def plot_force_strain(
     path: Path | str,
     rve: RVECurve | None = None,
     comm=None,
+    references: Mapping[str, tuple[np.ndarray, np.ndarray]] | None = None,
 ) -> None:
     """Force per width (gf/cm) against nominal strain (%) for each labelled curve.
 
     Args:
-        curves: label -> (strain (k,), force_gf_per_cm (k,)).
+        curves: label -> (strain (k,), force_gf_per_cm (k,)), drawn with markers.
         rve: the RVE's uniaxial curve, drawn beside the membrane curves when given.
         comm: only its rank 0 writes (None: the calling process writes).
+        references: further curves drawn as thin dashed lines (e.g. the material alone).
     """
     if comm is not None and comm.rank != 0:
         return
     figure, axes = plt.subplots(figsize=(5.0, 3.6), dpi=110)
     for label, (strain, force) in curves.items():
         axes.plot(100 * np.asarray(strain), force, marker="o", markersize=3, label=label)
+    for label, (strain, force) in (references or {}).items():
+        axes.plot(100 * np.asarray(strain), force, "--", linewidth=1.0, label=label)
     if rve is not None:
         axes.plot(100 * rve.strain, rve.force_gf_per_cm, "k--", label="RVE (uniaxial)")
     axes.set_xlabel("nominal strain (%)")

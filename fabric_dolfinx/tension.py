@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
+import scipy.optimize
 from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
@@ -32,6 +33,7 @@ from fabric_dolfinx.solve import (
     boundary_indicator,
 )
 from rve_rod.errors import ConvergenceError, InputError, check_integer, check_positive, check_range
+from rve_rod.surface import ResponseSurface
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
 DIRECTIONS = {"course": ("left", "right", 0), "wale": ("bottom", "top", 1)}
@@ -248,3 +250,43 @@ def run_tension(
 ) -> TensionResult:
     """Build and run a tension test (see TensionSetup.run)."""
     return TensionSetup(material, test, options, comm).run(xdmf=xdmf)
+
+
+def homogeneous_response(
+    surface: ResponseSurface, strain: np.ndarray, direction: str, lateral: str = "free"
+) -> np.ndarray:
+    """Force per width (N/mm) of the material alone under homogeneous tension.
+
+    F = 1 + strain along the load; across it the stretch is free with zero stress
+    ("free": uniaxial tension, as the RVE's uniaxial load case) or held at 1 ("fixed":
+    strip-biaxial). The clamped patch lies between the two. Returns P = F S along the load
+    for each strain (numpy evaluation of the surface, no finite elements).
+    """
+    if direction not in DIRECTIONS:
+        raise InputError(f"direction={direction!r} is not one of {', '.join(DIRECTIONS)}")
+    if lateral not in ("free", "fixed"):
+        raise InputError(f"lateral={lateral!r} must be 'free' or 'fixed'")
+    axis = DIRECTIONS[direction][2]
+    other = 1 - axis
+    forces = []
+    for value in np.atleast_1d(np.asarray(strain, dtype=float)):
+        E_load = ((1.0 + value) ** 2 - 1.0) / 2.0
+
+        def stress(E_lateral, E_load=E_load):
+            E = np.zeros(3)
+            E[axis], E[other] = E_load, E_lateral
+            return surface.stress(E).S[0]
+
+        lateral_strain = 0.0
+        if lateral == "free":
+            try:
+                lateral_strain = scipy.optimize.brentq(
+                    lambda e, stress=stress: stress(e)[other], -0.5, 0.5, xtol=1e-15
+                )
+            except ValueError:
+                raise InputError(
+                    f"at strain {value:.4g} no lateral strain in [-0.5, 0.5] makes the "
+                    "lateral stress vanish"
+                ) from None
+        forces.append((1.0 + value) * stress(lateral_strain)[axis])
+    return np.array(forces)
