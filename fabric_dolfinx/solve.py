@@ -115,11 +115,13 @@ class NewtonResult(NamedTuple):
         converged: whether the residual met the tolerance.
         residual_norms: 2-norms of the residual (N) before each iteration, iteration 0 first.
         failure: why the attempt failed ("" if it converged).
+        linear_iterations: Krylov iterations of all its linear solves (1 per solve for LU).
     """
 
     converged: bool
     residual_norms: tuple[float, ...]
     failure: str
+    linear_iterations: int
 
     @property
     def iterations(self) -> int:
@@ -133,6 +135,7 @@ class StepResult(NamedTuple):
         load_factor: t in (0, 1].
         newton_iterations: iterations of the converged attempt.
         residual_norms: its residual history (N), see NewtonResult.
+        linear_iterations: its Krylov iterations (1 per Newton iteration for LU).
         reactions: boundary name -> total reaction force (Fx, Fy) in N, summed over ranks.
         wall_time_s: time since the previous converged step (failed attempts included).
     """
@@ -140,6 +143,7 @@ class StepResult(NamedTuple):
     load_factor: float
     newton_iterations: int
     residual_norms: tuple[float, ...]
+    linear_iterations: int
     reactions: dict[str, np.ndarray]
     wall_time_s: float
 
@@ -207,27 +211,31 @@ class LoadStepper:
         """Newton iterations at the current load, starting from the current `u`."""
         options = self.options
         norms = [self._assemble_residual()]
+        linear = 0
         tolerance = max(options.absolute_tolerance, options.relative_tolerance * norms[0])
         for _ in range(options.max_iterations):
             if _converged(norms, tolerance, options.floor_tolerance):
-                return NewtonResult(True, tuple(norms), "")
+                return NewtonResult(True, tuple(norms), "", linear)
             self._matrix.zeroEntries()
             dolfinx.fem.petsc.assemble_matrix(self._matrix, self._jacobian_form, bcs=self.bcs)
             self._matrix.assemble()
             self._ksp.solve(self._vector, self._increment)
+            linear += max(self._ksp.getIterationNumber(), 1)
             reason = self._ksp.getConvergedReason()
             if reason < 0:
-                return NewtonResult(False, tuple(norms), f"linear solver failed (reason {reason})")
+                failure = f"linear solver failed (reason {reason})"
+                return NewtonResult(False, tuple(norms), failure, linear)
             self.u.vector.axpy(-1.0, self._increment)
             self.u.x.scatter_forward()
             norms.append(self._assemble_residual())
             if not math.isfinite(norms[-1]):
-                return NewtonResult(False, tuple(norms), "residual is not finite")
+                return NewtonResult(False, tuple(norms), "residual is not finite", linear)
             if norms[-1] > options.divergence_factor * norms[0]:
-                return NewtonResult(False, tuple(norms), "residual diverged")
+                return NewtonResult(False, tuple(norms), "residual diverged", linear)
         if _converged(norms, tolerance, options.floor_tolerance):
-            return NewtonResult(True, tuple(norms), "")
-        return NewtonResult(False, tuple(norms), f"not converged in {options.max_iterations}")
+            return NewtonResult(True, tuple(norms), "", linear)
+        failure = f"not converged in {options.max_iterations}"
+        return NewtonResult(False, tuple(norms), failure, linear)
 
     def reaction_forces(self) -> dict[str, np.ndarray]:
         """Boundary name -> (Fx, Fy) N: the residual without Dirichlet rows, acting on the
@@ -271,6 +279,7 @@ class LoadStepper:
                         load_factor=float(target),
                         newton_iterations=attempt.iterations,
                         residual_norms=attempt.residual_norms,
+                        linear_iterations=attempt.linear_iterations,
                         reactions=self.reaction_forces(),
                         wall_time_s=now - last,
                     )
