@@ -21,7 +21,6 @@ import argparse
 import json
 import os
 import re
-import resource
 import subprocess
 import sys
 import tempfile
@@ -144,6 +143,15 @@ def compile_one(material, jacobian):
     print(f"compile {time.perf_counter() - start:.3f}")
 
 
+def peak_memory_mb():
+    """Peak resident memory of this process (MB): VmHWM, which, unlike ru_maxrss, does not
+    inherit the peak of the process that forked it."""
+    for line in Path("/proc/self/status").read_text().splitlines():
+        if line.startswith("VmHWM:"):
+            return float(line.split()[1]) / 1024.0
+    return float("nan")
+
+
 def one_size(elements, steps, linear_solver):
     """Run one tension test; rank 0 prints a JSON line (times, Newton, memory)."""
     comm = MPI.COMM_WORLD
@@ -157,7 +165,7 @@ def one_size(elements, steps, linear_solver):
     )
     setup_time = time.perf_counter() - start
     result = setup.run()
-    memory = comm.allreduce(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
+    memory = comm.allreduce(peak_memory_mb())
     if comm.rank == 0:
         record = {
             "elements": elements,

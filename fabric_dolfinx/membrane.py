@@ -81,8 +81,8 @@ def membrane_forms(
     tangent dS_m/dE_m from `ufl.diff`. Differentiating the whole residual with
     `ufl.derivative` pushes the argument into every polynomial piece of the response-surface
     splines, and FFCx then factorizes each piece against each argument component: for a
-    16 x 16 cubic surface that kernel is 8100 operations per quadrature point and 17 s of C
-    compilation, against a third of that here.
+    16 x 16 cubic surface that kernel holds 9600 intermediate values per quadrature point and
+    takes 30 s to compile, against 3700 and 10 s here (docs/benchmarks.md).
 
     Args:
         quadrature_degree: Gauss rule per direction exact to this degree; default twice the

@@ -196,3 +196,28 @@ def test_orientation_90_degrees_exchanges_course_and_wale(direction):
     np.testing.assert_allclose(force_rotated, force_aligned, rtol=1e-10, atol=0)
     native = TensionSetup(MATERIAL, TensionTest(direction=direction), options).run()
     assert abs(native.force_n_per_mm[-1] - force_rotated[-1]) > 0.1 * force_rotated[-1]
+
+
+def test_spatially_varying_orientation_field():
+    """A DG0 angle field (courses running around the hole): S at every quadrature point is the
+    numpy surface stress rotated by that cell's angle."""
+    tagged = plate_with_hole(MPI.COMM_WORLD, element_size=10.0)
+    domain = tagged.mesh
+    space = fem.VectorFunctionSpace(domain, ("Lagrange", 1))
+    u = fem.Function(space)
+    F = HOMOGENEOUS["biaxial-shear"]
+    u.interpolate(lambda x: (F - np.eye(2)) @ x[:2])
+    angle = fem.Function(fem.FunctionSpace(domain, ("DG", 0)))
+    angle.interpolate(lambda x: np.arctan2(x[1] - 25.0, x[0] - 25.0) + np.pi / 2)
+    state = membrane_stress(u, MATERIAL.law, angle)
+    points, _ = basix.make_quadrature(basix.CellType.quadrilateral, 2)
+    values = ufl.as_vector(
+        [angle] + [state.second_piola_kirchhoff[i, j] for i in range(2) for j in range(2)]
+    )
+    cells = np.arange(domain.topology.index_map(2).size_local, dtype=np.int32)
+    table = fem.Expression(values, points).eval(cells).reshape(-1, 5)
+    angles = table[:, 0]
+    assert np.ptp(angles) > 3.0  # the field really varies
+    expected = np.array([numpy_pk2(F[None], a)[0] for a in angles])
+    scale = np.abs(expected).max()
+    np.testing.assert_allclose(table[:, 1:].reshape(-1, 2, 2), expected, atol=1e-12 * scale)
