@@ -6,6 +6,7 @@ raises when it cannot go on; it carries everything that converged before it stop
 """
 
 import math
+import numbers
 from typing import Any
 
 
@@ -72,7 +73,8 @@ def check_range(
 
 def check_integer(name: str, value: int, low: int, high: int | None = None) -> int:
     """Return `value` as int, or raise InputError unless it is an integer in [low, high]."""
-    if isinstance(value, bool) or not isinstance(value, int | float) or value != int(value):
+    is_number = isinstance(value, numbers.Real) and not isinstance(value, bool)
+    if not is_number or not math.isfinite(value) or value != int(value):
         raise InputError(f"{name}={value!r} must be an integer")
     number = int(value)
     if number < low or (high is not None and number > high):

@@ -640,6 +640,8 @@ def _read_file(h5: h5py.File, path: Path) -> ResponseSurface:
         generator = json.loads(_attribute(h5, "generator", path))
     except (TypeError, json.JSONDecodeError) as error:
         fail(f"attribute parameters or generator is not valid JSON: {error}")
+    if not isinstance(parameters, dict) or not isinstance(generator, dict):
+        fail("attributes parameters and generator must hold JSON objects")
     created = str(_attribute(h5, "created", path))
     splines, samples = {}, {}
     for name in EXTENSION_ORDERS[kind]:

@@ -158,6 +158,10 @@ def test_missing_group_member_and_attribute(tmp_path):
     expect_error(path, "missing attribute 'parameters'")
     path = write_then_edit(tmp_path, lambda h5: h5.attrs.__setitem__("kind", "energy"))
     expect_error(path, "missing group 'psi'")
+    path = write_then_edit(tmp_path, lambda h5: h5.attrs.__setitem__("parameters", "[1, 2]"))
+    expect_error(path, "must hold JSON objects")
+    path = write_then_edit(tmp_path, lambda h5: h5.attrs.__setitem__("generator", "{oops"))
+    expect_error(path, "not valid JSON")
 
 
 def test_inconsistent_members(tmp_path):

@@ -1,0 +1,162 @@
+"""Cost of one contact evaluation at the knit-cell size, and what the broad phase saves.
+
+Scene: one loop of a knit-like yarn (rve_rod.contact.scenes.knit_like_loop, cotton 20s/2 at
+stitch 5.5 sizes: w = 1.33 mm, c = 0.95 mm) as 4 patches of degree 4 with 68 control points
+(272 collocation points), the compressible-yarn law for r0 = 0.19 mm squeezed to r = 0.17 mm,
+E0 = 80 MPa, Coulomb friction mu = 0.15, periodic images as needed. Prints
+
+1. time per evaluation: search and loads only, and loads plus both derivatives (residual +
+   tangent), without and with friction, at F = I and under a sheared F;
+2. the broad phase: box pairs, narrow-phase span tests and all (point, span, image) pairs
+   for several spans per box;
+3. the cost against the number of control points per patch;
+4. the first-call numba compile time in a fresh process with an empty cache.
+
+    .venv/bin/python benchmarks/bench_contact.py [--repeats 30] [--skip-compile]
+"""
+
+import argparse
+import functools
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+from rve_rod.contact import (
+    CompressibleYarnLaw,
+    ContactModel,
+    ContactOptions,
+    CoulombFriction,
+)
+from rve_rod.contact.scenes import knit_like_loop
+
+LAW = CompressibleYarnLaw.from_yarn(minimal_radius=0.19, yarn_radius=0.17, youngs_modulus=80.0)
+FRICTION = CoulombFriction.for_law(LAW, coefficient=0.15)
+SHEAR = np.array([[1.0, 0.1, 0.0], [0.1, 1.0, 0.0], [0.0, 0.0, 1.0]])
+
+
+def best_time(function, repeats):
+    """Minimum and median wall time of `function` over `repeats` calls (after one warm-up)."""
+    function()
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return min(times), float(np.median(times))
+
+
+def model_for(control_points=68, friction=FRICTION, spans_per_box=8):
+    scene = knit_like_loop(n_control_points=control_points)
+    model = ContactModel(
+        scene.patches,
+        scene.positions,
+        LAW,
+        friction=friction,
+        lattice=scene.lattice,
+        options=ContactOptions(spans_per_box=spans_per_box),
+    )
+    return model, scene.positions
+
+
+def evaluation_table(repeats):
+    print("\n1. Time per contact evaluation, knit cell 4 x 68 control points, p = 4")
+    print(
+        f"{'friction':>9} {'F':>6} {'contacts':>9} {'images':>7} "
+        f"{'loads (ms)':>17} {'loads+tangent (ms)':>19}"
+    )
+    print(f"{'':>9} {'':>6} {'':>9} {'':>7} {'min':>8} {'median':>8} {'min':>9} {'median':>9}")
+    for friction in (None, FRICTION):
+        model, positions = model_for(friction=friction)
+        for name, deformation in (("I", np.eye(3)), ("shear", SHEAR)):
+            result = model.evaluate(positions, deformation)
+            evaluate = functools.partial(model.evaluate, positions, deformation)
+            loads = best_time(functools.partial(evaluate, tangent=False), repeats)
+            full = best_time(evaluate, repeats)
+            stats = result.statistics
+            label = "mu=0.15" if friction else "none"
+            print(
+                f"{label:>9} {name:>6} {stats.active_contacts:>9} {stats.images:>7} "
+                f"{1e3 * loads[0]:>8.2f} {1e3 * loads[1]:>8.2f} "
+                f"{1e3 * full[0]:>9.2f} {1e3 * full[1]:>9.2f}"
+            )
+
+
+def broad_phase_table(repeats):
+    print("\n2. Broad phase at the knit-cell size (F = I, with friction)")
+    print(
+        f"{'spans/box':>9} {'box pairs':>10} {'span tests':>11} {'all pairs':>10} "
+        f"{'tested %':>9} {'min (ms)':>9}"
+    )
+    for spans_per_box in (1, 2, 4, 8, 16, 32):
+        model, positions = model_for(spans_per_box=spans_per_box)
+        stats = model.evaluate(positions).statistics
+        best, _ = best_time(functools.partial(model.evaluate, positions), repeats)
+        print(
+            f"{spans_per_box:>9} {stats.box_pairs:>10} {stats.span_tests:>11} "
+            f"{stats.all_pairs:>10} {100 * stats.span_tests / stats.all_pairs:>9.2f} "
+            f"{1e3 * best:>9.2f}"
+        )
+
+
+def refinement_table(repeats):
+    print("\n3. Cost against control points per patch (F = I, with friction, loads + tangent)")
+    print(f"{'points':>7} {'collocation':>12} {'contacts':>9} {'span tests':>11} {'min (ms)':>9}")
+    for control_points in (17, 34, 68, 136, 272):
+        model, positions = model_for(control_points=control_points)
+        stats = model.evaluate(positions).statistics
+        best, _ = best_time(functools.partial(model.evaluate, positions), max(5, repeats // 3))
+        print(
+            f"{control_points:>7} {model.n_collocation_points:>12} {stats.active_contacts:>9} "
+            f"{stats.span_tests:>11} {1e3 * best:>9.2f}"
+        )
+
+
+COMPILE_SNIPPET = """
+import time
+start = time.perf_counter()
+from benchmarks.bench_contact import model_for
+model, positions = model_for()
+model.evaluate(positions)
+print(time.perf_counter() - start)
+"""
+
+
+def compile_time():
+    print("\n4. First evaluation in a fresh process (import, numba compile or cache load, model)")
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    with tempfile.TemporaryDirectory() as cache:
+        environment = dict(os.environ, NUMBA_CACHE_DIR=cache, PYTHONPATH=root)
+        for label in ("empty cache", "warm cache"):
+            output = subprocess.run(
+                [sys.executable, "-c", COMPILE_SNIPPET],
+                env=environment,
+                capture_output=True,
+                text=True,
+                check=True,
+                cwd=root,
+            )
+            print(f"{label:>12}: {float(output.stdout.strip()):.2f} s")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=30)
+    parser.add_argument("--skip-compile", action="store_true")
+    args = parser.parse_args()
+    print(
+        f"law: k = {LAW.stiffness:.3f} MPa, p = {LAW.exponent:.3f}, r = {LAW.yarn_radius} mm; "
+        f"friction mu = {FRICTION.coefficient}, k_t = {FRICTION.tangential_stiffness:.3f} MPa"
+    )
+    evaluation_table(args.repeats)
+    broad_phase_table(args.repeats)
+    refinement_table(args.repeats)
+    if not args.skip_compile:
+        compile_time()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,322 @@
+"""Scene files: one TOML file that describes a whole study, checked before anything runs.
+
+A scene names the fabric (a preset or explicit yarn and knit), the meso-scale RVE runs wanted,
+the response-surface sampling and the fabric-scale problem. Every problem found while reading
+is collected, and `SceneError` reports all of them at once, one line each, naming the key.
+Settings left out of a scene come from its fidelity level (`knitmech.fidelity`).
+"""
+
+import math
+import tomllib
+from dataclasses import dataclass, field, fields
+from importlib.resources import files
+from pathlib import Path
+from typing import Any
+
+from rve_rod.errors import InputError
+from rve_rod.presets import load_preset
+
+MESO_CASES = (
+    "uniaxial-course",
+    "uniaxial-wale",
+    "strip-biaxial-course",
+    "strip-biaxial-wale",
+    "shear",
+)
+"""Meso-scale load cases a scene may ask for by name (design.md); biaxial rays come from
+the surface sampling."""
+
+DIRECTIONS = ("course", "wale")
+SURFACE_KINDS = ("stress", "energy")
+FIDELITY_NAMES = ("fast", "balanced", "accurate")
+
+
+class SceneError(InputError):
+    """A scene has problems; `problems` lists them, one message per problem."""
+
+    def __init__(self, source: str, problems: list[str]):
+        self.problems = list(problems)
+        lines = "\n".join(f"  - {problem}" for problem in self.problems)
+        super().__init__(f"scene {source} has {len(self.problems)} problem(s):\n{lines}")
+
+
+@dataclass(frozen=True)
+class FabricSpec:
+    """The knitted fabric: a preset (with stitch value) and/or explicit values (mm, MPa).
+
+    Explicit values override the preset's; without a preset, wale_width, course_height,
+    yarn_radius and youngs_modulus are required.
+    """
+
+    preset: str | None = None
+    stitch: float | None = None
+    wale_width: float | None = None
+    course_height: float | None = None
+    yarn_radius: float | None = None
+    youngs_modulus: float | None = None
+    poissons_ratio: float | None = None
+    friction: float | None = None
+
+
+@dataclass(frozen=True)
+class MesoSpec:
+    """Meso-scale RVE runs reported beside the fabric results (uniaxial curves, Poisson ratios).
+
+    Attributes:
+        cases: load-case names from MESO_CASES.
+        max_strain: largest prescribed engineering strain (-).
+        steps: load steps including the zero step; None takes the fidelity level's.
+        control_points: control points per loop curve; None takes the fidelity level's.
+    """
+
+    cases: tuple[str, ...] = ("uniaxial-course", "uniaxial-wale")
+    max_strain: float = 0.20
+    steps: int | None = None
+    control_points: int | None = None
+
+
+@dataclass(frozen=True)
+class SurfaceSpec:
+    """Response-surface sampling and fit, or an existing surface file to use as it is.
+
+    Attributes:
+        kind: "stress" (the paper's stress surfaces) or "energy" (hyperelastic potential).
+        path: an existing surface file; when given nothing is sampled.
+        rays: number of biaxial rays; None takes the fidelity level's.
+        max_strain: largest engineering strain along the rays (-).
+        shear_max_strain: largest shear strain of the pure-shear run (-).
+    """
+
+    kind: str = "stress"
+    path: str | None = None
+    rays: int | None = None
+    max_strain: float = 0.20
+    shear_max_strain: float = 0.30
+
+
+@dataclass(frozen=True)
+class MacroSpec:
+    """The fabric-scale problem: a square patch pulled in tension (design.md, paper Fig. 8).
+
+    Attributes:
+        size: patch edge length (mm).
+        elements: elements per side; None takes the fidelity level's.
+        directions: "course" (clamp left, pull right) and/or "wale" (clamp bottom, pull top).
+        max_strain: largest nominal strain of the patch (-).
+        steps: load steps; None takes the fidelity level's.
+        angle: orientation of the course direction against the x axis (degrees).
+        ranks: MPI ranks for the fabric runs (1 runs in-process).
+    """
+
+    size: float = 50.0
+    elements: int | None = None
+    directions: tuple[str, ...] = DIRECTIONS
+    max_strain: float = 0.20
+    steps: int | None = None
+    angle: float = 0.0
+    ranks: int = 1
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A whole study; see the module docstring and docs/scene.md."""
+
+    name: str = "scene"
+    fidelity: str = "balanced"
+    fabric: FabricSpec = field(default_factory=FabricSpec)
+    meso: MesoSpec = field(default_factory=MesoSpec)
+    surface: SurfaceSpec = field(default_factory=SurfaceSpec)
+    macro: MacroSpec = field(default_factory=MacroSpec)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The scene as plain data (lists for tuples, no None), for TOML/JSON records."""
+        return _to_plain(self)
+
+
+def default_scene_path() -> Path:
+    """Path of the built-in default scene (cotton 20s/2, stitch 5.5, 50 mm patch)."""
+    return Path(str(files("knitmech").joinpath("data/default_scene.toml")))
+
+
+def load_scene(path: str | Path | None = None) -> Scene:
+    """Read and check a scene file (the built-in default scene when `path` is None)."""
+    path = default_scene_path() if path is None else Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as error:
+        raise InputError(f"scene file {path}: cannot be read ({error.strerror})") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise InputError(f"scene file {path}: not valid TOML ({error})") from None
+    return scene_from_dict(data, source=str(path), base=path.parent)
+
+
+def scene_from_dict(data: dict, source: str = "<dict>", base: Path | None = None) -> Scene:
+    """Build a Scene from parsed TOML, collecting every problem into one SceneError.
+
+    Relative paths (surface.path) are taken relative to `base`.
+    """
+    problems: list[str] = []
+    sections = {"fabric": FabricSpec, "meso": MesoSpec, "surface": SurfaceSpec, "macro": MacroSpec}
+    top: dict[str, Any] = {}
+    for key, value in data.items():
+        if key in sections:
+            continue
+        if key not in ("name", "fidelity"):
+            problems.append(f"{key}: unknown key (valid: name, fidelity, {', '.join(sections)})")
+            continue
+        top[key] = value
+    if not isinstance(top.get("name", ""), str):
+        problems.append(f"name: expected a string, got {_describe(top['name'])}")
+    fidelity = top.get("fidelity", "balanced")
+    if fidelity not in FIDELITY_NAMES:
+        problems.append(f"fidelity: {fidelity!r} is not one of {', '.join(FIDELITY_NAMES)}")
+    parts = {}
+    for name, cls in sections.items():
+        table = data.get(name, {})
+        if not isinstance(table, dict):
+            problems.append(f"{name}: expected a table, got {_describe(table)}")
+            table = {}
+        parts[name] = _read_section(name, cls, table, problems)
+    _check_values(parts, problems, base)
+    if problems:
+        raise SceneError(source, problems)
+    surface = parts["surface"]
+    if surface.path is not None and base is not None:
+        resolved = (base / surface.path).resolve()
+        surface = SurfaceSpec(**{**surface.__dict__, "path": str(resolved)})
+    return Scene(
+        name=top.get("name", "scene"),
+        fidelity=fidelity,
+        fabric=parts["fabric"],
+        meso=parts["meso"],
+        surface=surface,
+        macro=parts["macro"],
+    )
+
+
+# Expected Python types of every section key (TOML integers are accepted for floats).
+_TYPES: dict[str, dict[str, tuple[type, ...]]] = {
+    "fabric": {
+        "preset": (str,),
+        "stitch": (float,),
+        "wale_width": (float,),
+        "course_height": (float,),
+        "yarn_radius": (float,),
+        "youngs_modulus": (float,),
+        "poissons_ratio": (float,),
+        "friction": (float,),
+    },
+    "meso": {"cases": (list,), "max_strain": (float,), "steps": (int,), "control_points": (int,)},
+    "surface": {
+        "kind": (str,),
+        "path": (str,),
+        "rays": (int,),
+        "max_strain": (float,),
+        "shear_max_strain": (float,),
+    },
+    "macro": {
+        "size": (float,),
+        "elements": (int,),
+        "directions": (list,),
+        "max_strain": (float,),
+        "steps": (int,),
+        "angle": (float,),
+        "ranks": (int,),
+    },
+}
+
+
+def _read_section(name: str, cls: type, table: dict, problems: list[str]):
+    valid = [f.name for f in fields(cls)]
+    values = {}
+    for key, raw in table.items():
+        if key not in valid:
+            problems.append(f"{name}.{key}: unknown key (valid: {', '.join(valid)})")
+            continue
+        expected = _TYPES[name][key]
+        value = raw
+        if float in expected and isinstance(raw, int) and not isinstance(raw, bool):
+            value = float(raw)
+        if isinstance(value, bool) or not isinstance(value, expected):
+            wanted = " or ".join(t.__name__ for t in expected)
+            problems.append(f"{name}.{key}: expected {wanted}, got {_describe(value)}")
+            continue
+        if isinstance(value, float) and not math.isfinite(value):
+            problems.append(f"{name}.{key}: {value} is not a finite number")
+            continue
+        values[key] = tuple(value) if isinstance(value, list) else value
+    return cls(**values)
+
+
+def _check_values(parts: dict, problems: list[str], base: Path | None) -> None:
+    fabric, meso, surface, macro = (parts[k] for k in ("fabric", "meso", "surface", "macro"))
+    for key in ("stitch", "wale_width", "course_height", "yarn_radius", "youngs_modulus"):
+        value = getattr(fabric, key)
+        if value is not None and value <= 0:
+            problems.append(f"fabric.{key}: {value} must be > 0")
+    if fabric.poissons_ratio is not None and not 0 <= fabric.poissons_ratio < 0.5:
+        problems.append(f"fabric.poissons_ratio: {fabric.poissons_ratio} is outside [0, 0.5)")
+    if fabric.friction is not None and fabric.friction < 0:
+        problems.append(f"fabric.friction: {fabric.friction} must be >= 0")
+    if fabric.preset is not None:
+        try:
+            load_preset(fabric.preset, fabric.stitch)
+        except InputError as error:
+            key = "fabric.stitch" if "stitch" in str(error) else "fabric.preset"
+            problems.append(f"{key}: {error}")
+    else:
+        for key in ("wale_width", "course_height", "yarn_radius", "youngs_modulus"):
+            if getattr(fabric, key) is None:
+                problems.append(f"fabric.{key}: required when fabric.preset is not given")
+    for case in meso.cases:
+        if case not in MESO_CASES:
+            problems.append(f"meso.cases: {case!r} is not one of {', '.join(MESO_CASES)}")
+    for direction in macro.directions:
+        if direction not in DIRECTIONS:
+            problems.append(f"macro.directions: {direction!r} is not one of course, wale")
+    if surface.kind not in SURFACE_KINDS:
+        problems.append(f"surface.kind: {surface.kind!r} is not one of stress, energy")
+    if surface.path is not None:
+        path = Path(surface.path) if base is None else base / surface.path
+        if not path.is_file():
+            problems.append(f"surface.path: no such file {path}")
+    ranges = (
+        ("meso.max_strain", meso.max_strain, 0.0, 1.0),
+        ("surface.max_strain", surface.max_strain, 0.0, 1.0),
+        ("surface.shear_max_strain", surface.shear_max_strain, 0.0, 1.0),
+        ("macro.max_strain", macro.max_strain, 0.0, 1.0),
+        ("macro.size", macro.size, 0.0, math.inf),
+        ("macro.angle", macro.angle, -360.0, 360.0),
+    )
+    for key, value, low, high in ranges:
+        if not low < value <= high:
+            problems.append(f"{key}: {value} is outside the valid range ({low}, {high}]")
+    minimums = (
+        ("meso.steps", meso.steps, 2),
+        ("meso.control_points", meso.control_points, 12),
+        ("surface.rays", surface.rays, 3),
+        ("macro.elements", macro.elements, 1),
+        ("macro.steps", macro.steps, 1),
+        ("macro.ranks", macro.ranks, 1),
+    )
+    for key, value, low in minimums:
+        if value is not None and value < low:
+            problems.append(f"{key}: {value} must be >= {low}")
+
+
+def _describe(value: Any) -> str:
+    return f"{type(value).__name__} {value!r}"
+
+
+def _to_plain(value: Any) -> Any:
+    if hasattr(value, "__dataclass_fields__"):
+        return {
+            f.name: _to_plain(getattr(value, f.name))
+            for f in fields(value)
+            if getattr(value, f.name) is not None
+        }
+    if isinstance(value, tuple):
+        return [_to_plain(v) for v in value]
+    return value

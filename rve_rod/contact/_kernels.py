@@ -1,0 +1,356 @@
+"""Numba kernels of contact: box sweep, closest points, loads with tangents, COO assembly.
+
+Arrays are components first, batch last. Each kernel writes into preallocated outputs and is
+checked against a plain NumPy/SciPy reference in tests/unit/test_contact_kernels.py.
+"""
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def box_overlaps(slave_boxes, master_boxes, order, out_slave, out_master):
+    """All pairs of overlapping axis-aligned boxes (closed intervals) by a sweep along x.
+
+    Args:
+        slave_boxes: (6, a) boxes as (x_lo, y_lo, z_lo, x_hi, y_hi, z_hi).
+        master_boxes: (6, b) boxes, same layout.
+        order: (b,) master indices sorted by x_lo.
+        out_slave, out_master: (capacity,) int64 outputs for the pair indices.
+
+    Returns the number of overlapping pairs; only the first `capacity` are written, so a
+    caller whose buffer was too small calls again with a larger one.
+    """
+    n_master = order.size
+    sorted_lo = np.empty(n_master)
+    extent = 0.0
+    for t in range(n_master):
+        m = order[t]
+        sorted_lo[t] = master_boxes[0, m]
+        extent = max(extent, master_boxes[3, m] - master_boxes[0, m])
+    capacity = out_slave.size
+    count = 0
+    for a in range(slave_boxes.shape[1]):
+        first = np.searchsorted(sorted_lo, slave_boxes[0, a] - extent)
+        last = np.searchsorted(sorted_lo, slave_boxes[3, a], side="right")
+        for t in range(first, last):
+            m = order[t]
+            if (
+                master_boxes[3, m] >= slave_boxes[0, a]
+                and master_boxes[1, m] <= slave_boxes[4, a]
+                and master_boxes[4, m] >= slave_boxes[1, a]
+                and master_boxes[2, m] <= slave_boxes[5, a]
+                and master_boxes[5, m] >= slave_boxes[2, a]
+            ):
+                if count < capacity:
+                    out_slave[count] = a
+                    out_master[count] = m
+                count += 1
+    return count
+
+
+@njit(cache=True)
+def _span_geometry(coefficients, span, tau, out):
+    """C, dC/dtau, d2C/dtau2 of a span polynomial at tau (Horner), into out (3, 3)."""
+    degree = coefficients.shape[1] - 1
+    for c in range(3):
+        value = coefficients[c, degree, span]
+        first = 0.0
+        second = 0.0
+        for k in range(degree - 1, -1, -1):
+            second = second * tau + first
+            first = first * tau + value
+            value = value * tau + coefficients[c, k, span]
+        out[0, c] = value
+        out[1, c] = first
+        out[2, c] = 2.0 * second
+
+
+@njit(cache=True)
+def _start_slope(coefficients, span, x0, x1, x2):
+    """Slope C'.(C - x) of the squared distance from x at the start (tau = 0) of a span."""
+    return (
+        coefficients[0, 1, span] * (coefficients[0, 0, span] - x0)
+        + coefficients[1, 1, span] * (coefficients[1, 0, span] - x1)
+        + coefficients[2, 1, span] * (coefficients[2, 0, span] - x2)
+    )
+
+
+@njit(cache=True)
+def _end_slope(coefficients, span, x0, x1, x2):
+    """Slope C'.(C - x) of the squared distance from x at the end (tau = 1) of a span."""
+    slope = 0.0
+    for c in range(3):
+        value = 0.0
+        derivative = 0.0
+        for k in range(coefficients.shape[1]):
+            value += coefficients[c, k, span]
+            derivative += k * coefficients[c, k, span]
+        slope += derivative * (value - (x0 if c == 0 else x1 if c == 1 else x2))
+    return slope
+
+
+@njit(cache=True)
+def project_on_groups(  # noqa: PLR0917 (numba kernels take their arrays positionally)
+    coefficients, group_spans, span_next, closed_end, groups, targets, tolerance, out_index, out
+):
+    """Closest points of targets on groups of spans: every local minimum of distance.
+
+    The squared distance f(tau) = |C(tau) - x|^2 / 2 has slope g = C'.(C - x). A span owns a
+    minimum when g <= 0 at its start and g > 0 at its end (>= 0 for the last span of an
+    open yarn), the end slope being taken at the start of the next span of the same patch so
+    that a minimum exactly on a knot belongs to one span only. Inside the bracket, Newton
+    steps on g with bisection whenever a step would leave the bracket (safeguarded Newton:
+    it always converges, quadratically near the root).
+
+    Args:
+        coefficients: (3, p+1, S) power-basis coefficients of the spans.
+        group_spans: (2, B) first span and number of spans of each group.
+        span_next: (S,) next span of the same patch, -1 for a patch's last span.
+        closed_end: (S,) True for spans that own their end point (end of an open yarn).
+        groups: (k,) group of each target.
+        targets: (3, k) points to project (slave point minus the image translation).
+        tolerance: convergence tolerance on tau (the iteration limit follows from it).
+        out_index: (2, capacity) int64 output: target and span of each minimum found.
+        out: (10, capacity) output: tau, then C, dC/dtau, d2C/dtau2 (3 each) at tau.
+
+    Returns the number of minima found; only the first `capacity` are written.
+    """
+    local = np.empty((3, 3))
+    capacity = out.shape[1]
+    max_iterations = 2 * int(np.log2(1.0 / tolerance)) + 10
+    count = 0
+    for c in range(groups.size):
+        x0 = targets[0, c]
+        x1 = targets[1, c]
+        x2 = targets[2, c]
+        first = group_spans[0, groups[c]]
+        slope_low = _start_slope(coefficients, first, x0, x1, x2)
+        for s in range(first, first + group_spans[1, groups[c]]):
+            following = span_next[s]
+            if following >= 0:
+                slope_high = _start_slope(coefficients, following, x0, x1, x2)
+            else:
+                slope_high = _end_slope(coefficients, s, x0, x1, x2)
+            owned = slope_low <= 0.0 and (slope_high > 0.0 or (closed_end[s] and slope_high >= 0.0))
+            if owned:
+                t = _safeguarded_newton(
+                    coefficients,
+                    s,
+                    x0,
+                    x1,
+                    x2,
+                    slope_low,
+                    slope_high,
+                    tolerance,
+                    max_iterations,
+                    local,
+                )
+                if count < capacity:
+                    out_index[0, count] = c
+                    out_index[1, count] = s
+                    out[0, count] = t
+                    for row in range(3):
+                        for col in range(3):
+                            out[1 + 3 * row + col, count] = local[row, col]
+                count += 1
+            slope_low = slope_high
+    return count
+
+
+@njit(cache=True)
+def _safeguarded_newton(  # noqa: PLR0917
+    coefficients, span, x0, x1, x2, slope_low, slope_high, tolerance, max_iterations, local
+):
+    """Root of the slope in [0, 1] given its signs at the ends; leaves geometry in local."""
+    low = 0.0
+    high = 1.0
+    t = 0.0 if slope_low == slope_high else slope_low / (slope_low - slope_high)
+    for _ in range(max_iterations):
+        _span_geometry(coefficients, span, t, local)
+        d0 = local[0, 0] - x0
+        d1 = local[0, 1] - x1
+        d2 = local[0, 2] - x2
+        slope = local[1, 0] * d0 + local[1, 1] * d1 + local[1, 2] * d2
+        curvature = (
+            local[1, 0] ** 2
+            + local[1, 1] ** 2
+            + local[1, 2] ** 2
+            + local[2, 0] * d0
+            + local[2, 1] * d1
+            + local[2, 2] * d2
+        )
+        if slope <= 0.0:
+            low = t
+        else:
+            high = t
+        step = t - slope / curvature if curvature > 0.0 else -1.0
+        if not low <= step <= high:
+            step = 0.5 * (low + high)
+        done = abs(step - t) <= tolerance
+        t = step
+        if done:
+            break
+    _span_geometry(coefficients, span, t, local)
+    return t
+
+
+@njit(cache=True)
+def block_entries(blocks, slave, n_points, first, basis, rows, columns, values):  # noqa: PLR0917
+    """COO entries of the contact-load derivative with respect to the control points.
+
+    Args:
+        blocks: (4, 3, 3, k) derivative blocks of each load w.r.t. x_s, x_m, C' and x_a.
+        slave: (k,) collocation point of each load; n_points: number of collocation points
+            m (component i of point j is row i m + j).
+        first: (3, k) first control point of the slave span, the master span and the anchor
+            span (-1: no anchor) of each load.
+        basis: (4, p+1, k) the values chaining each block to the span's control points:
+            N_a(slave tau), N_b(master tau), dN_b/dtau(master tau), N_c(anchor tau).
+        rows, columns, values: (capacity,) outputs, capacity >= 9 * 3 (p+1) k.
+
+    Block b of span control point a goes to columns 3 (first + a) + j; the master span takes
+    blocks 1 and 2 together. Returns the number of entries written.
+    """
+    n_basis = basis.shape[1]
+    count = 0
+    for c in range(slave.size):
+        for part in range(3):
+            start = first[part, c]
+            if start < 0:
+                continue
+            for a in range(n_basis):
+                column = 3 * (start + a)
+                for i in range(3):
+                    for j in range(3):
+                        if part == 0:
+                            value = blocks[0, i, j, c] * basis[0, a, c]
+                        elif part == 1:
+                            value = (
+                                blocks[1, i, j, c] * basis[1, a, c]
+                                + blocks[2, i, j, c] * basis[2, a, c]
+                            )
+                        else:
+                            value = blocks[3, i, j, c] * basis[3, a, c]
+                        rows[count] = i * n_points + slave[c]
+                        columns[count] = column + j
+                        values[count] = value
+                        count += 1
+    return count
+
+
+@njit(cache=True)
+def contact_loads(  # noqa: PLR0917
+    gap_vector, tangent, metric, slip_vector, anchored, law, friction, load, force, blocks, state
+):
+    """Line loads of k contacts (compressible-yarn law, Coulomb friction) and their derivatives.
+
+    Per contact: v = x_s - x_m, d = |v|, n = v/d, g = 2r - d, f_n = k (r/p) (g/r)^p and
+    f_n' = k (g/r)^(p-1) for g > 0. Normal load f_n n with derivative blocks
+    K (dx_s - dx_m) - (f_n/H) C' n^T dC', K = -f_n' n n^T + (f_n/d) P - f_n/(d H) C' C'^T,
+    P = I - n n^T. Friction on anchored contacts: slip g_T = P w, trial -k_t g_T, stick or
+    slip to mu f_n (return mapping) with dg_T = P dw + G dv, G = -[(n.w) P + n g_T^T]/d,
+    dv = Q (dx_s - dx_m) - C' v.dC'/H, Q = I - C' C'^T/H (docs/contact.md).
+
+    Args:
+        gap_vector: (3, k) v (mm).
+        tangent: (3, k) C' = dC/dtau at the closest point (mm).
+        metric: (k,) H = C'.C' - C''.v (mm^2).
+        slip_vector: (3, k) w = x_s - x_a - o relative to the stick anchor (mm).
+        anchored: (k,) True where the contact has an anchor (friction applies).
+        law: (3,) stiffness k (MPa), exponent p, yarn radius r (mm).
+        friction: (2,) coefficient mu and tangential stiffness k_t (MPa); mu = 0: none.
+        load: (3, k) output line load (N/mm).
+        force: (k,) output normal line load f_n (N/mm).
+        blocks: (4, 3, 3, k) output derivatives of the load w.r.t. x_s, x_m, C' and the
+            anchor point x_a.
+        state: (k,) int8 output: 0 no friction, 1 stick, 2 slip.
+    """
+    stiffness, exponent, radius = law[0], law[1], law[2]
+    mu, k_t = friction[0], friction[1]
+    n = np.empty(3)
+    t = np.empty(3)
+    v = np.empty(3)
+    projector = np.empty((3, 3))
+    for c in range(metric.size):
+        d = np.sqrt(gap_vector[0, c] ** 2 + gap_vector[1, c] ** 2 + gap_vector[2, c] ** 2)
+        for i in range(3):
+            v[i] = gap_vector[i, c]
+            n[i] = v[i] / d
+            t[i] = tangent[i, c]
+        h = metric[c]
+        g = 2.0 * radius - d
+        f = 0.0
+        slope = 0.0
+        if g > 0.0:
+            f = stiffness * (radius / exponent) * (g / radius) ** exponent
+            slope = stiffness * (g / radius) ** (exponent - 1.0)
+        force[c] = f
+        for i in range(3):
+            load[i, c] = f * n[i]
+            for j in range(3):
+                projector[i, j] = (1.0 if i == j else 0.0) - n[i] * n[j]
+                k_ij = -slope * n[i] * n[j] + f / d * projector[i, j] - f / (d * h) * t[i] * t[j]
+                blocks[0, i, j, c] = k_ij
+                blocks[1, i, j, c] = -k_ij
+                blocks[2, i, j, c] = -f / h * t[i] * n[j]
+                blocks[3, i, j, c] = 0.0
+        state[c] = 0
+        if mu > 0.0 and anchored[c]:
+            _friction(
+                c, n, t, v, d, h, f, slope, slip_vector, mu, k_t, projector, load, blocks, state
+            )
+
+
+@njit(cache=True)
+def _friction(c, n, t, v, d, h, f, slope, slip_vector, mu, k_t, projector, load, blocks, state):  # noqa: PLR0917
+    """Return mapping of contact c; adds its load and derivative blocks (see contact_loads)."""
+    w = slip_vector[:, c]
+    normal_part = n[0] * w[0] + n[1] * w[1] + n[2] * w[2]
+    slip = np.empty(3)
+    for i in range(3):
+        slip[i] = w[i] - normal_part * n[i]
+    # G = -[(n.w) P + n g_T^T] / d and Q = I - C' C'^T / H.
+    g_matrix = np.empty((3, 3))
+    q_matrix = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            g_matrix[i, j] = -(normal_part * projector[i, j] + n[i] * slip[j]) / d
+            q_matrix[i, j] = (1.0 if i == j else 0.0) - t[i] * t[j] / h
+    gq = g_matrix @ q_matrix
+    g_tangent = g_matrix @ t
+    trial = -k_t * slip
+    trial_norm = np.sqrt(trial[0] ** 2 + trial[1] ** 2 + trial[2] ** 2)
+    limit = mu * f
+    sliding = trial_norm > limit
+    scale = limit / trial_norm if sliding else 1.0
+    direction = trial / trial_norm if trial_norm > 0.0 else np.zeros(3)
+    # Stick: df_t = -k_t dg_T. Slip: df_t = -mu f_n' t n^T (dx_s - dx_m) + T dg_T with
+    # T = -k_t mu f_n / |trial| (I - t t^T), t the slip direction.
+    factor = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            identity = 1.0 if i == j else 0.0
+            factor[i, j] = (
+                -k_t * scale * (identity - (direction[i] * direction[j] if sliding else 0.0))
+            )
+    d_slave = projector + gq
+    d_master = -gq
+    t_slave = factor @ d_slave
+    t_master = factor @ d_master
+    t_anchor = -(factor @ projector)
+    for i in range(3):
+        load[i, c] += scale * trial[i]
+        for j in range(3):
+            normal_term = -mu * slope * direction[i] * n[j] if sliding else 0.0
+            blocks[0, i, j, c] += t_slave[i, j] + normal_term
+            blocks[1, i, j, c] += t_master[i, j] - normal_term
+            blocks[3, i, j, c] = t_anchor[i, j]
+    for i in range(3):
+        for j in range(3):
+            # d/dC': -T G C' v^T / H
+            value = 0.0
+            for a in range(3):
+                value += factor[i, a] * g_tangent[a]
+            blocks[2, i, j, c] -= value * v[j] / h
+    state[c] = 2 if sliding else 1

@@ -1,0 +1,85 @@
+"""Friction history: the stick anchors that carry Coulomb friction from one load step to the next.
+
+Every slave point that was within the detection radius of a master at the last converged
+(committed) state keeps an anchor: the master material point (span, tau, lattice image) it was
+closest to and the offset o from that point at which it sticks, o = v - g_e (v = x_s - x_m,
+g_e the elastic slip left by the return mapping). During the next step the slip of the slave
+point is the tangential part of w = x_s - x_a - o, where x_a is the anchor's current position:
+the motion of the slave point relative to the master's material point since the last commit.
+A current contact finds its anchor by slave point, strand (the endless yarn through the
+lattice images) and nearest unwrapped arc coordinate along it.
+"""
+
+from typing import NamedTuple
+
+import numpy as np
+
+_STRAND_BITS = 31  # strand keys stay below 2^31 (yarn << 20 | image offsets)
+
+
+class FrictionHistory(NamedTuple):
+    """Stick anchors of the committed state (arrays over h anchors).
+
+    Attributes:
+        slave: (h,) collocation point that owns the anchor.
+        strand: (h,) strand key of the master yarn piece (ContactLayout.strands).
+        arc: (h,) unwrapped reference arc coordinate of the anchor along its strand (mm).
+        span: (h,) master span of the anchor; tau: (h,) its local parameter.
+        image: (h, 2) lattice image of the anchor's master.
+        offset: (3, h) stick offset o (mm).
+    """
+
+    slave: np.ndarray
+    strand: np.ndarray
+    arc: np.ndarray
+    span: np.ndarray
+    tau: np.ndarray
+    image: np.ndarray
+    offset: np.ndarray
+
+    @classmethod
+    def empty(cls) -> "FrictionHistory":
+        """No anchors: every contact starts without friction until the next commit."""
+        none = np.zeros(0, dtype=np.int64)
+        return cls(
+            none, none, np.zeros(0), none, np.zeros(0), np.zeros((0, 2), np.int64), np.zeros((3, 0))
+        )
+
+    def __len__(self) -> int:
+        return self.slave.size
+
+
+def match_anchors(
+    history: FrictionHistory,
+    slave: np.ndarray,
+    strand: np.ndarray,
+    arc: np.ndarray,
+    window: float,
+) -> np.ndarray:
+    """Anchor of each current contact: index into `history`, or -1 if it has none.
+
+    A contact (slave point, strand, arc coordinate) takes the anchor of the same slave point
+    on the same strand whose arc coordinate is nearest, if it lies within `window` (mm).
+    """
+    result = np.full(slave.size, -1, dtype=np.int64)
+    if len(history) == 0 or slave.size == 0:
+        return result
+    history_key = (history.slave.astype(np.int64) << _STRAND_BITS) + history.strand
+    order = np.lexsort((history.arc, history_key))
+    sorted_key = history_key[order]
+    sorted_arc = history.arc[order]
+    key = (slave.astype(np.int64) << _STRAND_BITS) + strand
+    low = np.searchsorted(sorted_key, key, side="left")
+    high = np.searchsorted(sorted_key, key, side="right")
+    best = np.full(slave.size, np.inf)
+    widest = int((high - low).max())
+    for offset in range(widest):
+        index = low + offset
+        valid = index < high
+        distance = np.where(
+            valid, np.abs(sorted_arc[np.minimum(index, order.size - 1)] - arc), np.inf
+        )
+        better = valid & (distance < best) & (distance <= window)
+        best = np.where(better, distance, best)
+        result = np.where(better, order[np.minimum(index, order.size - 1)], result)
+    return result

@@ -1,0 +1,578 @@
+"""Yarn-to-yarn contact at collocation points: line loads, friction and their linearization.
+
+`ContactModel` is what a rod solver calls. Per evaluation (positions of all control points,
+macro deformation gradient F):
+
+1. broad phase: boxes of the knot spans from their control points, over the cell and the
+   lattice images that can reach it (translated by F (i a1 + j a2)); a sweep finds the span
+   pairs whose boxes come within the detection radius 2r + margin (`broad_phase`);
+2. narrow phase: every collocation point of a candidate slave span is projected onto the
+   candidate master spans (safeguarded Newton, `closest_point`); each local minimum of the
+   distance on another part of the yarn or on an image is a contact candidate;
+3. the compressible-yarn law gives the normal line load at each slave point with penetration
+   g = 2r - d > 0, and penalty-regularized Coulomb friction the tangential one (`forces`);
+4. the loads (3, m) are summed per collocation point, and their consistent derivatives are
+   assembled with respect to the control points (sparse) and to F11, F12, F21, F22 (dense).
+
+Every collocation point of every yarn acts as slave (two-pass): a point receives the load of
+its own penetration only, never the reaction of another point's contact, which is how the
+collocation scheme takes a line load. Friction history changes only on `commit`.
+"""
+
+import logging
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+import scipy.sparse
+
+from rve_rod.contact import _kernels
+from rve_rod.contact.broad_phase import find_candidates, group_boxes, group_spans, select_images
+from rve_rod.contact.closest_point import project
+from rve_rod.contact.forces import (
+    ANCHOR,
+    MASTER,
+    ContactLoads,
+    Kinematics,
+    contact_loads,
+    kinematics,
+)
+from rve_rod.contact.friction import FrictionHistory, match_anchors
+from rve_rod.contact.law import CompressibleYarnLaw, CoulombFriction
+from rve_rod.contact.layout import (
+    ContactLayout,
+    Patch,
+    PeriodicLattice,
+    YarnChain,
+    build_layout,
+)
+from rve_rod.errors import InputError, check_integer, check_positive
+
+logger = logging.getLogger(__name__)
+
+DEFORMATION_COMPONENTS = ("F11", "F12", "F21", "F22")
+"""Columns of `ContactResult.deformation_jacobian`."""
+
+
+@dataclass(frozen=True)
+class ContactOptions:
+    """Search settings.
+
+    Attributes:
+        search_margin: detection radius beyond touching, d < 2r + margin (mm); points within
+            it get friction anchors before they touch. None: half the yarn radius.
+        exclusion_arc_length: a distance minimum on the point's own yarn closer than this
+            reference arc length to the point is adjacency, not contact, and is ignored (mm).
+            None: four yarn radii.
+        max_image_shift: largest |i|, |j| of the lattice images searched (default 3).
+        spans_per_box: consecutive knot spans bounded by one box in the broad phase (default
+            8; 1 is one box per span). Changes the cost only, never the result.
+    """
+
+    search_margin: float | None = None
+    exclusion_arc_length: float | None = None
+    max_image_shift: int = 3
+    spans_per_box: int = 8
+
+    def __post_init__(self):
+        if self.search_margin is not None:
+            check_positive("search_margin", self.search_margin, "mm")
+        if self.exclusion_arc_length is not None:
+            check_positive("exclusion_arc_length", self.exclusion_arc_length, "mm")
+        check_integer("max_image_shift", self.max_image_shift, 1, 100)
+        check_integer("spans_per_box", self.spans_per_box, 1)
+
+
+class ContactStatistics(NamedTuple):
+    """Cost and state of one evaluation.
+
+    Attributes:
+        active_contacts: slave points in contact (pairs with penetration > 0).
+        max_penetration: largest penetration g = 2r - d (mm), 0 without contact.
+        images: lattice images searched (including the cell itself).
+        box_pairs: (collocation point, span-group box) pairs found by the broad phase.
+        span_tests: (collocation point, span) pairs the narrow phase examined (the spans of
+            the candidate groups, own-yarn neighbours excluded).
+        all_pairs: all (collocation point, span, image) pairs: what a search without broad
+            phase would project.
+        closest_points: local distance minima found within the detection radius.
+        sticking, sliding: active contacts in stick and in slip (0 without friction).
+        without_anchor: active contacts without a friction anchor (first touch this step).
+    """
+
+    active_contacts: int
+    max_penetration: float
+    images: int
+    box_pairs: int
+    span_tests: int
+    all_pairs: int
+    closest_points: int
+    sticking: int
+    sliding: int
+    without_anchor: int
+
+
+class ActiveContacts(NamedTuple):
+    """The active contacts (arrays over k contacts).
+
+    Attributes:
+        slave: (k,) collocation point loaded by the contact.
+        patch: (k,) master patch; parameter: (k,) master patch parameter u of the closest point.
+        image: (k, 2) lattice image (i, j) of the master.
+        penetration: (k,) g = 2r - d (mm).
+        normal: (3, k) unit normal from master to slave.
+        normal_load: (k,) f_n (N/mm).
+        friction_load: (3, k) f_t (N/mm); zeros without friction.
+        sliding: (k,) True where friction slips.
+    """
+
+    slave: np.ndarray
+    patch: np.ndarray
+    parameter: np.ndarray
+    image: np.ndarray
+    penetration: np.ndarray
+    normal: np.ndarray
+    normal_load: np.ndarray
+    friction_load: np.ndarray
+    sliding: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class ContactResult:
+    """Line loads at the collocation points and their derivatives.
+
+    Attributes:
+        line_load: (3, m) contact force per unit length at each collocation point (N/mm).
+        jacobian: (3m, 3n) sparse d line_load / d positions in COO form with repeated
+            entries (summed by `.tocsr()`; map `.row`, `.col` to global equations and dofs
+            before assembling); row c m + j is line_load[c, j] (the C order of line_load, as
+            the rod's LineLoads), column 3i + c is positions[i, c] (N/mm^2). None if not
+            requested.
+        deformation_jacobian: (3m, 4) d line_load / d (F11, F12, F21, F22) (N/mm), rows as in
+            `jacobian`. None if not requested.
+        contacts: the active contacts.
+        statistics: counts of the search and of the contact states.
+        trial_history: the friction anchors this state would leave if committed (None without
+            friction).
+    """
+
+    line_load: np.ndarray
+    jacobian: scipy.sparse.coo_matrix | None
+    deformation_jacobian: np.ndarray | None
+    contacts: ActiveContacts
+    statistics: ContactStatistics
+    trial_history: FrictionHistory | None
+
+
+class _Anchors(NamedTuple):
+    """Friction anchors of the active contacts (span -1: no anchor)."""
+
+    span: np.ndarray  # (k,)
+    tau: np.ndarray  # (k,)
+    shift: np.ndarray  # (k, 3) reference lattice shift of the anchor's image
+    slip_vector: np.ndarray  # (3, k) w = x_s - x_a - o (mm), zero without anchor
+
+    @classmethod
+    def none(cls, k: int) -> "_Anchors":
+        """k contacts without anchors."""
+        return cls(np.full(k, -1), np.zeros(k), np.zeros((k, 3)), np.zeros((3, k)))
+
+
+class _SearchCounts(NamedTuple):
+    """Cost counts of one search (see ContactStatistics)."""
+
+    images: int
+    box_pairs: int
+    span_tests: int
+    all_pairs: int
+
+
+class _Selection(NamedTuple):
+    """Closest points of one evaluation (arrays over the k detected pairs)."""
+
+    slave: np.ndarray  # (k,) collocation point
+    span: np.ndarray  # (k,) master span
+    tau: np.ndarray  # (k,) local parameter of the closest point
+    image: np.ndarray  # (k, 2) lattice image
+    shift: np.ndarray  # (k, 3) reference lattice shift of the image
+    strand: np.ndarray  # (k,) strand key of the master
+    arc: np.ndarray  # (k,) unwrapped reference arc coordinate of the closest point (mm)
+    state: Kinematics
+    counts: _SearchCounts
+
+    def subset(self, rows: np.ndarray) -> "_Selection":
+        """The pairs `rows` (an index array)."""
+        return _Selection(
+            slave=self.slave[rows],
+            span=self.span[rows],
+            tau=self.tau[rows],
+            image=self.image[rows],
+            shift=self.shift[rows],
+            strand=self.strand[rows],
+            arc=self.arc[rows],
+            state=Kinematics(*(field[..., rows] for field in self.state)),
+            counts=self.counts,
+        )
+
+
+class ContactModel:
+    """Contact between yarn centrelines given as B-spline patches, with periodic images.
+
+    Args:
+        patches: the B-spline patches of all yarns (one degree), in global numbering order.
+        reference_positions: (n_total, 3) control points of the reference configuration (mm);
+            arc lengths and collocation weights are measured on it, and with friction the
+            contacts of this configuration (at F = I) are committed as the first anchors.
+        law: the normal contact law (it carries the yarn radius r).
+        friction: Coulomb friction, or None (also skipped when its coefficient is 0).
+        lattice: the periodic cell, or None for a scene without images.
+        yarns: how patches chain into yarns. Default: one yarn of all patches in order,
+            continuing into image (1, 0) if a lattice is given, open otherwise.
+        options: search settings.
+    """
+
+    def __init__(
+        self,
+        patches: list[Patch],
+        reference_positions: np.ndarray,
+        law: CompressibleYarnLaw,
+        *,
+        friction: CoulombFriction | None = None,
+        lattice: PeriodicLattice | None = None,
+        yarns: list[YarnChain] | None = None,
+        options: ContactOptions | None = None,
+    ):
+        self.options = ContactOptions() if options is None else options
+        if yarns is None:
+            period = (1, 0) if lattice is not None else None
+            yarns = [YarnChain(tuple(range(len(patches))), period)]
+        if lattice is None and any(yarn.period is not None for yarn in yarns):
+            raise InputError("a periodic yarn chain needs a lattice")
+        self.layout: ContactLayout = build_layout(list(patches), list(yarns), reference_positions)
+        self.law = law
+        self.lattice = lattice
+        self.friction = friction if friction is not None and friction.coefficient > 0 else None
+        radius = law.yarn_radius
+        margin = self.options.search_margin
+        self.search_margin = 0.5 * radius if margin is None else margin
+        exclusion = self.options.exclusion_arc_length
+        self.exclusion_arc_length = 4.0 * radius if exclusion is None else exclusion
+        self._groups = group_spans(self.layout, self.options.spans_per_box)
+        point_yarn = self.layout.span_yarn[self.layout.point_span]
+        self._slave_strands, _ = self.layout.strands(
+            point_yarn, np.zeros((point_yarn.size, 2), dtype=np.int64)
+        )
+        self._history = FrictionHistory.empty()
+        if self.friction is not None:
+            initial = self.evaluate(reference_positions, np.eye(3), tangent=False)
+            self._history = initial.trial_history
+
+    @property
+    def n_control_points(self) -> int:
+        return self.layout.n_control_points
+
+    @property
+    def n_collocation_points(self) -> int:
+        return self.layout.n_points
+
+    @property
+    def collocation_weights(self) -> np.ndarray:
+        """(m,) reference arc length each collocation point represents (mm)."""
+        return self.layout.collocation_weights
+
+    @property
+    def history(self) -> FrictionHistory:
+        """The committed friction anchors."""
+        return self._history
+
+    def commit(self, result: ContactResult) -> None:
+        """Adopt the friction anchors of a converged evaluation (no-op without friction)."""
+        if self.friction is not None:
+            self._history = result.trial_history
+
+    def evaluate(
+        self,
+        positions: np.ndarray,
+        deformation_gradient: np.ndarray | None = None,
+        *,
+        tangent: bool = True,
+    ) -> ContactResult:
+        """Line loads (and derivatives) for control points (n_total, 3) and macro F (3, 3).
+
+        positions may also be a list of per-patch (n_k, 3) arrays. F defaults to the
+        identity; it only moves the lattice images. The committed history is not changed.
+        """
+        points = self._positions(positions)
+        deformation = self._deformation(deformation_gradient)
+        layout = self.layout
+        slave_points = layout.collocation_positions(points)
+        detected = self._closest_points(points, slave_points, deformation)
+        radius = self.law.yarn_radius
+        active_rows = np.flatnonzero(detected.state.distance < 2.0 * radius)
+        active = detected.subset(active_rows)
+        k = active_rows.size
+        anchors = _Anchors.none(k)
+        if self.friction is not None:
+            anchors = self._anchors(points, slave_points, deformation, active)
+        loads = contact_loads(
+            active.state, self.law, self.friction, anchors.slip_vector, anchors.span >= 0
+        )
+        trial_history = None
+        if self.friction is not None:
+            trial_history = self._trial_history(detected, active_rows, loads)
+        line_load = _sum_per_point(active.slave, loads.load, layout.n_points)
+        jacobian = deformation_jacobian = None
+        if tangent:
+            jacobian, deformation_jacobian = self._linearization(loads, active, anchors)
+        penetration = 2.0 * radius - active.state.distance
+        contacts = ActiveContacts(
+            slave=active.slave,
+            patch=layout.span_patch[active.span],
+            parameter=layout.span_start[active.span] + active.tau * layout.span_length[active.span],
+            image=active.image,
+            penetration=penetration,
+            normal=active.state.normal,
+            normal_load=loads.normal_force,
+            friction_load=loads.friction_load,
+            sliding=loads.sliding,
+        )
+        counts = detected.counts
+        anchored = anchors.span >= 0
+        friction_on = self.friction is not None
+        statistics = ContactStatistics(
+            active_contacts=int(k),
+            max_penetration=float(penetration.max()) if k else 0.0,
+            images=counts.images,
+            box_pairs=counts.box_pairs,
+            span_tests=counts.span_tests,
+            all_pairs=counts.all_pairs,
+            closest_points=int(detected.slave.size),
+            sticking=int(np.count_nonzero(anchored & ~loads.sliding)) if friction_on else 0,
+            sliding=int(np.count_nonzero(loads.sliding)),
+            without_anchor=int(np.count_nonzero(~anchored)) if friction_on else 0,
+        )
+        logger.debug(
+            "contact: %d active (%d sliding), max penetration %.3g mm, %d span tests of %d",
+            statistics.active_contacts,
+            statistics.sliding,
+            statistics.max_penetration,
+            statistics.span_tests,
+            statistics.all_pairs,
+        )
+        return ContactResult(
+            line_load=line_load,
+            jacobian=jacobian,
+            deformation_jacobian=deformation_jacobian,
+            contacts=contacts,
+            statistics=statistics,
+            trial_history=trial_history,
+        )
+
+    def _anchors(self, points, slave_points, deformation, active: _Selection) -> _Anchors:
+        """The committed anchors of the active contacts and their slip vectors."""
+        history = self._history
+        anchor = match_anchors(
+            history, active.slave, active.strand, active.arc, self.exclusion_arc_length
+        )
+        rows = np.flatnonzero(anchor >= 0)
+        anchor = anchor[rows]
+        anchors = _Anchors.none(active.slave.size)
+        anchors.span[rows] = history.span[anchor]
+        anchors.tau[rows] = history.tau[anchor]
+        anchors.shift[rows] = self._shifts(history.image[anchor])
+        anchor_points = (
+            self._span_points(points, anchors.span[rows], anchors.tau[rows])
+            + (anchors.shift[rows] @ deformation.T).T
+        )
+        anchors.slip_vector[:, rows] = (
+            slave_points[:, active.slave[rows]] - anchor_points - history.offset[:, anchor]
+        )
+        return anchors
+
+    # -- search -------------------------------------------------------------------------------
+
+    def _closest_points(self, points, slave_points, deformation) -> _Selection:
+        """Distance minima within the detection radius, own-yarn adjacency excluded."""
+        layout = self.layout
+        radius = self.law.yarn_radius
+        reach = 2.0 * radius + self.search_margin
+        boxes = group_boxes(layout, self._groups, points)
+        images = select_images(
+            boxes, self.lattice, deformation, reach, self.options.max_image_shift
+        )
+        translations = self._shifts(images) @ deformation.T
+        candidates = find_candidates(
+            layout,
+            self._groups,
+            boxes,
+            slave_points=slave_points,
+            slave_strands=self._slave_strands,
+            images=images,
+            translations=translations,
+            reach=reach,
+            exclusion_arc_length=self.exclusion_arc_length,
+        )
+        targets = slave_points[:, candidates.slave] - translations[candidates.image].T
+        found = project(
+            layout.coefficients(points),
+            self._groups.spans,
+            layout.span_next,
+            layout.span_closed_end,
+            groups=candidates.group,
+            targets=targets,
+        )
+        # Keep minima within the detection radius that are not adjacency along the own yarn
+        # (which includes every point's zero-distance minimum on itself).
+        slave = candidates.slave[found.candidate]
+        image = candidates.image[found.candidate]
+        master = found.point + translations[image].T
+        distance = np.linalg.norm(slave_points[:, slave] - master, axis=0)
+        near = np.flatnonzero(distance < reach)
+        span, tau, image, slave = (
+            found.span[near],
+            found.tau[near],
+            images[image[near]],
+            slave[near],
+        )
+        strand, shift = layout.strands(layout.span_yarn[span], image)
+        arc = layout.span_arc_start[span] + tau * layout.span_arc_length[span] + shift
+        apart = (strand != self._slave_strands[slave]) | (
+            np.abs(arc - layout.point_arc[slave]) >= self.exclusion_arc_length
+        )
+        keep = near[apart]
+        state = kinematics(
+            slave_points[:, slave[apart]],
+            master[:, keep],
+            found.tangent[:, keep],
+            found.curvature[:, keep],
+        )
+        # A zero distance or a degenerate minimum (H <= 0) has no normal: skip it.
+        valid = (state.distance > 1e-12 * radius) & (state.metric > 0)
+        image = image[apart][valid]
+        return _Selection(
+            slave=slave[apart][valid],
+            span=span[apart][valid],
+            tau=tau[apart][valid],
+            image=image,
+            shift=self._shifts(image),
+            strand=strand[apart][valid],
+            arc=arc[apart][valid],
+            state=Kinematics(*(field[..., valid] for field in state)),
+            counts=_SearchCounts(
+                images=int(images.shape[0]),
+                box_pairs=candidates.box_pairs,
+                span_tests=int(self._groups.spans[1][candidates.group].sum()),
+                all_pairs=candidates.all_pairs,
+            ),
+        )
+
+    def _shifts(self, images: np.ndarray) -> np.ndarray:
+        """Reference lattice shifts (k, 3) of images (k, 2); zeros without a lattice."""
+        if self.lattice is None:
+            return np.zeros((images.shape[0], 3))
+        return self.lattice.shifts(images)
+
+    def _span_points(self, points, spans, tau):
+        """Curve points (3, k) at local parameters tau of spans, in the cell."""
+        basis = self.layout.basis(spans, tau)
+        return np.einsum("ka,kac->ck", basis, self.layout.span_points(points)[spans])
+
+    def _trial_history(self, detected: _Selection, active_rows, loads: ContactLoads):
+        """Anchors of all detected pairs: offset v - g_e (g_e = 0 where there is no friction)."""
+        offset = detected.state.gap_vector.copy()
+        offset[:, active_rows] -= loads.elastic_slip
+        return FrictionHistory(
+            slave=detected.slave,
+            strand=detected.strand,
+            arc=detected.arc,
+            span=detected.span,
+            tau=detected.tau,
+            image=detected.image,
+            offset=offset,
+        )
+
+    # -- linearization --------------------------------------------------------------------------
+
+    def _linearization(self, loads: ContactLoads, active: _Selection, anchors: _Anchors):
+        """Sparse d load / d positions and dense d load / d F from the 3x3 derivative blocks.
+
+        A load at slave point j depends on the control points a of its own span through
+        x_s = sum_a N_a(tau_j) P_a, on those of the master span through x_m = sum_b N_b P_b + F L
+        and C' = sum_b N_b' P_b, and on the anchor span's through x_a = sum_c N_c P_c + F L_a.
+        """
+        slave, span, tau, shift = active.slave, active.span, active.tau, active.shift
+        layout = self.layout
+        anchored = anchors.span >= 0
+        first = np.stack(
+            [
+                layout.span_first[layout.point_span[slave]],
+                layout.span_first[span],
+                np.where(anchored, layout.span_first[anchors.span], -1),
+            ]
+        )
+        anchor_basis = np.zeros((slave.size, layout.degree + 1))
+        anchor_basis[anchored] = layout.basis(anchors.span[anchored], anchors.tau[anchored])
+        basis = np.stack(
+            [
+                layout.point_basis[slave],
+                layout.basis(span, tau),
+                layout.basis(span, tau, 1),
+                anchor_basis,
+            ]
+        ).transpose(0, 2, 1)
+        blocks = loads.blocks
+        size = slave.size * 9 * 3 * (layout.degree + 1)
+        rows = np.empty(size, dtype=np.int64)
+        columns = np.empty(size, dtype=np.int64)
+        values = np.empty(size)
+        count = _kernels.block_entries(
+            blocks,
+            slave.astype(np.int64),
+            layout.n_points,
+            np.ascontiguousarray(first),
+            np.ascontiguousarray(basis),
+            rows,
+            columns,
+            values,
+        )
+        shape = (3 * layout.n_points, 3 * layout.n_control_points)
+        jacobian = scipy.sparse.coo_matrix(
+            (values[:count], (rows[:count], columns[:count])), shape=shape
+        )
+        # d load / d F_ab = (d load / d x_m)[:, a] L_b + (d load / d x_a)[:, a] L_a,b.
+        per_contact = np.einsum("iak,kb->kiab", blocks[MASTER][:, :2], shift[:, :2]) + np.einsum(
+            "iak,kb->kiab", blocks[ANCHOR][:, :2], anchors.shift[:, :2]
+        )
+        deformation = _sum_per_point(slave, per_contact.reshape(-1, 12).T, layout.n_points)
+        return jacobian, deformation.reshape(3, 4, -1).transpose(0, 2, 1).reshape(-1, 4)
+
+    # -- input checks ---------------------------------------------------------------------------
+
+    def _positions(self, positions) -> np.ndarray:
+        if isinstance(positions, list | tuple):
+            positions = np.concatenate([np.asarray(p, dtype=float) for p in positions])
+        points = np.asarray(positions, dtype=float)
+        expected = (self.layout.n_control_points, 3)
+        if points.shape != expected:
+            raise InputError(f"positions have shape {points.shape}, expected {expected}")
+        if not np.all(np.isfinite(points)):
+            raise InputError("positions contain NaN or infinite values")
+        return points
+
+    @staticmethod
+    def _deformation(deformation_gradient) -> np.ndarray:
+        if deformation_gradient is None:
+            return np.eye(3)
+        deformation = np.asarray(deformation_gradient, dtype=float)
+        if deformation.shape != (3, 3) or not np.all(np.isfinite(deformation)):
+            raise InputError(
+                f"deformation_gradient must be a finite (3, 3) array, got {deformation.shape}"
+            )
+        return deformation
+
+
+def _sum_per_point(points: np.ndarray, values: np.ndarray, n_points: int) -> np.ndarray:
+    """Sum columns of values (c, k) that belong to the same point: (c, n_points)."""
+    index = (np.arange(values.shape[0])[:, None] * n_points + points[None, :]).ravel()
+    total = np.bincount(index, weights=values.ravel(), minlength=values.shape[0] * n_points)
+    return total.reshape(values.shape[0], n_points)

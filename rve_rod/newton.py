@@ -1,0 +1,331 @@
+"""Newton-Raphson with load (or displacement) stepping and automatic cutback.
+
+The solver knows nothing about rods: it takes a `NonlinearProblem`, i.e. a callable returning
+the residual R(u, t) and its sparse Jacobian at state u and load factor t, plus the scales
+that make the convergence norms dimensionless. A step from t_n to t_n+1 is accepted when
+
+    max_i |R_i| / residual_scale_i <= residual_tolerance   and
+    max_i |du_i| / state_scale_i    <= increment_tolerance   (the last Newton increment).
+
+A step whose Newton iteration fails (non-finite values, residual growth beyond
+`divergence_factor`, or `max_iterations` reached) is retried with half the increment, down to
+`min_increment` and at most `max_cutbacks` times in a row; easy steps let the increment grow
+again. After every converged step the problem's `commit` hook runs (history variables such as
+friction slip). If the path cannot be continued, `ConvergenceError` carries the last converged
+step and every step before it. Linear systems are solved by SuperLU (scipy.sparse.linalg.splu).
+"""
+
+import logging
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse
+import scipy.sparse.linalg
+
+from rve_rod.errors import ConvergenceError, InputError, check_integer, check_positive
+
+logger = logging.getLogger(__name__)
+
+Evaluate = Callable[[np.ndarray, float], tuple[np.ndarray, scipy.sparse.spmatrix]]
+"""evaluate(state, load_factor) -> (residual (n,), jacobian (n, n) sparse)."""
+
+
+@dataclass(frozen=True, eq=False)
+class NonlinearProblem:
+    """A parameterized nonlinear system R(u, t) = 0.
+
+    Attributes:
+        evaluate: (state, load_factor) -> (residual, sparse Jacobian).
+        residual_scale: typical magnitude of each residual entry, scalar or (n,).
+        state_scale: typical magnitude of each unknown, scalar or (n,).
+        commit: called as commit(state, load_factor) after every converged step, or None.
+    """
+
+    evaluate: Evaluate
+    residual_scale: float | np.ndarray = 1.0
+    state_scale: float | np.ndarray = 1.0
+    commit: Callable[[np.ndarray, float], None] | None = None
+
+
+@dataclass(frozen=True)
+class NewtonOptions:
+    """Options of one Newton solve.
+
+    Attributes:
+        residual_tolerance: bound on the scaled residual max-norm (default 1e-10).
+        increment_tolerance: bound on the scaled max-norm of the last increment (1e-10).
+        max_iterations: iterations before the solve counts as failed (25).
+        divergence_factor: the solve fails when the scaled residual exceeds this factor times
+            max(first scaled residual, 1) (1e8).
+    """
+
+    residual_tolerance: float = 1e-10
+    increment_tolerance: float = 1e-10
+    max_iterations: int = 25
+    divergence_factor: float = 1e8
+
+    def __post_init__(self):
+        check_positive("residual_tolerance", self.residual_tolerance)
+        check_positive("increment_tolerance", self.increment_tolerance)
+        check_integer("max_iterations", self.max_iterations, 1)
+        check_positive("divergence_factor", self.divergence_factor)
+
+
+@dataclass(frozen=True)
+class SteppingOptions:
+    """Options of the load stepping.
+
+    Attributes:
+        initial_increment: first load-factor increment (default 1: try the whole way).
+        max_increment: largest increment (1).
+        min_increment: smallest increment before giving up (1e-6).
+        max_cutbacks: consecutive halvings allowed before giving up (16).
+        growth_factor: increment growth after an easy step (2).
+        easy_iterations: a step with at most this many iterations is easy (5).
+        extrapolate: predict the next state linearly from the last two converged steps
+            instead of starting from the last one (True).
+    """
+
+    initial_increment: float = 1.0
+    max_increment: float = 1.0
+    min_increment: float = 1e-6
+    max_cutbacks: int = 16
+    growth_factor: float = 2.0
+    easy_iterations: int = 5
+    extrapolate: bool = True
+
+    def __post_init__(self):
+        check_positive("initial_increment", self.initial_increment)
+        check_positive("max_increment", self.max_increment)
+        check_positive("min_increment", self.min_increment)
+        check_integer("max_cutbacks", self.max_cutbacks, 0)
+        if self.growth_factor < 1.0:
+            raise InputError(f"growth_factor={self.growth_factor} must be >= 1")
+        check_integer("easy_iterations", self.easy_iterations, 1)
+
+
+@dataclass(frozen=True, eq=False)
+class NewtonResult:
+    """Outcome of one Newton solve at a fixed load factor.
+
+    Attributes:
+        state: the last iterate (the solution if `converged`).
+        load_factor: t.
+        converged: whether both norms met their tolerances.
+        iterations: Newton iterations done (linear solves).
+        residual_norms: scaled residual max-norm before the first and after every iteration.
+        increment_norms: scaled increment max-norm of every iteration.
+        reason: "converged", "diverged", "not finite", "singular" or "max iterations".
+    """
+
+    state: np.ndarray
+    load_factor: float
+    converged: bool
+    iterations: int
+    residual_norms: tuple[float, ...]
+    increment_norms: tuple[float, ...]
+    reason: str
+
+
+@dataclass(frozen=True, eq=False)
+class StepRecord:
+    """A converged point of the load path.
+
+    Attributes:
+        load_factor: t.
+        state: the converged state (a copy).
+        iterations: Newton iterations of the last substep that reached t.
+        residual_norms: that substep's scaled residual norms per iteration.
+        substeps: converged substeps since the previous record.
+        cutbacks: failed attempts (halvings) since the previous record.
+    """
+
+    load_factor: float
+    state: np.ndarray
+    iterations: int
+    residual_norms: tuple[float, ...]
+    substeps: int = 1
+    cutbacks: int = 0
+
+
+@dataclass(eq=False)
+class PathResult:
+    """The converged load path: one record per requested load factor (the start included).
+
+    Attributes:
+        steps: StepRecord per requested load factor, in order.
+        newton_iterations: total Newton iterations, including failed attempts.
+    """
+
+    steps: list[StepRecord] = field(default_factory=list)
+    newton_iterations: int = 0
+
+    @property
+    def final_state(self) -> np.ndarray:
+        return self.steps[-1].state
+
+    @property
+    def load_factors(self) -> np.ndarray:
+        return np.array([step.load_factor for step in self.steps])
+
+
+def _scaled_norm(values: np.ndarray, scale) -> float:
+    if values.size == 0:
+        return 0.0
+    return float(np.max(np.abs(values) / scale))
+
+
+def newton_solve(
+    problem: NonlinearProblem,
+    state: np.ndarray,
+    load_factor: float,
+    options: NewtonOptions = NewtonOptions(),
+) -> NewtonResult:
+    """Newton iterations on R(u, t) = 0 at fixed t from the initial guess `state`."""
+    state = np.array(state, dtype=float)
+    residual, jacobian = problem.evaluate(state, load_factor)
+    residual_norms = [_scaled_norm(residual, problem.residual_scale)]
+    increment_norms: list[float] = []
+    first = max(residual_norms[0], 1.0)
+    reason = "max iterations"
+    for iteration in range(1, options.max_iterations + 1):
+        if not np.all(np.isfinite(residual)):
+            reason = "not finite"
+            break
+        try:
+            increment = scipy.sparse.linalg.splu(scipy.sparse.csc_matrix(jacobian)).solve(-residual)
+        except RuntimeError:  # SuperLU: "Factor is exactly singular"
+            reason = "singular"
+            break
+        state = state + increment
+        residual, jacobian = problem.evaluate(state, load_factor)
+        residual_norms.append(_scaled_norm(residual, problem.residual_scale))
+        increment_norms.append(_scaled_norm(increment, problem.state_scale))
+        logger.debug(
+            "t=%.6g iteration %d: residual %.3e, increment %.3e",
+            load_factor,
+            iteration,
+            residual_norms[-1],
+            increment_norms[-1],
+        )
+        if not np.isfinite(residual_norms[-1]) or not np.isfinite(increment_norms[-1]):
+            reason = "not finite"
+            break
+        if (
+            residual_norms[-1] <= options.residual_tolerance
+            and increment_norms[-1] <= options.increment_tolerance
+        ):
+            return NewtonResult(
+                state,
+                load_factor,
+                True,
+                iteration,
+                tuple(residual_norms),
+                tuple(increment_norms),
+                "converged",
+            )
+        if residual_norms[-1] > options.divergence_factor * first:
+            reason = "diverged"
+            break
+    return NewtonResult(
+        state,
+        load_factor,
+        False,
+        len(increment_norms),
+        tuple(residual_norms),
+        tuple(increment_norms),
+        reason,
+    )
+
+
+def solve_path(
+    problem: NonlinearProblem,
+    initial_state: np.ndarray,
+    load_factors: Sequence[float],
+    *,
+    stepping: SteppingOptions = SteppingOptions(),
+    newton: NewtonOptions = NewtonOptions(),
+    start: float = 0.0,
+) -> PathResult:
+    """Follow the load path from t = `start` through every value of `load_factors`.
+
+    `initial_state` must be an equilibrium at t = `start` (e.g. the unloaded reference state);
+    it is recorded as the first step. Between requested load factors the increment adapts
+    (cutback on failure, growth after easy steps).
+
+    Raises:
+        ConvergenceError: when the increment would fall below `min_increment` or more than
+            `max_cutbacks` consecutive halvings fail; `last_converged` is the last converged
+            StepRecord (possibly a substep) and `history` the PathResult up to there.
+    """
+    targets = np.asarray(load_factors, dtype=float)
+    if targets.ndim != 1 or targets.size == 0 or np.any(np.diff(np.r_[start, targets]) <= 0):
+        raise InputError(
+            f"load_factors must increase strictly from start={start}: {targets.tolist()}"
+        )
+    state = np.array(initial_state, dtype=float)
+    result = PathResult(steps=[StepRecord(float(start), state.copy(), 0, ())])
+    t = float(start)
+    previous = None  # (t, state) of the converged step before the current one
+    increment = min(stepping.initial_increment, stepping.max_increment)
+    for target in targets:
+        substeps = cutbacks = consecutive = 0
+        last = None
+        while t < target:
+            trial = min(t + increment, target)
+            if target - trial < 1e-12 * max(1.0, abs(target)):
+                trial = float(target)
+            guess = state
+            if stepping.extrapolate and previous is not None:
+                guess = state + (trial - t) / (t - previous[0]) * (state - previous[1])
+            attempt = newton_solve(problem, guess, trial, newton)
+            result.newton_iterations += attempt.iterations
+            if attempt.converged:
+                previous = (t, state)
+                t, state = trial, attempt.state
+                if problem.commit is not None:
+                    problem.commit(state, t)
+                substeps += 1
+                consecutive = 0
+                last = attempt
+                if attempt.iterations <= stepping.easy_iterations:
+                    increment = min(increment * stepping.growth_factor, stepping.max_increment)
+                continue
+            cutbacks += 1
+            consecutive += 1
+            increment = 0.5 * (trial - t)
+            logger.warning(
+                "t=%.6g not reached from t=%.6g (%s after %d iterations); increment cut to %.3g",
+                trial,
+                t,
+                attempt.reason,
+                attempt.iterations,
+                increment,
+            )
+            if increment < stepping.min_increment or consecutive > stepping.max_cutbacks:
+                last_record = StepRecord(
+                    t,
+                    state.copy(),
+                    0 if last is None else last.iterations,
+                    () if last is None else last.residual_norms,
+                    substeps,
+                    cutbacks,
+                )
+                raise ConvergenceError(
+                    f"no convergence beyond load factor t={t:.6g} on the way to {target:.6g}: "
+                    f"{attempt.reason} (increment {increment:.3g}, {consecutive} cutbacks)",
+                    last_converged=last_record,
+                    history=result,
+                )
+        result.steps.append(
+            StepRecord(t, state.copy(), last.iterations, last.residual_norms, substeps, cutbacks)
+        )
+        logger.info(
+            "t=%.6g converged: %d substeps, %d cutbacks, %d iterations in the last",
+            t,
+            substeps,
+            cutbacks,
+            last.iterations,
+        )
+    return result

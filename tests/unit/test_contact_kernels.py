@@ -1,0 +1,240 @@
+"""Contact kernels against plain NumPy/SciPy references."""
+
+import numpy as np
+import pytest
+import scipy.optimize
+
+from rve_rod.contact import CompressibleYarnLaw, _kernels
+from rve_rod.contact.broad_phase import overlapping_boxes
+from rve_rod.contact.closest_point import project
+from rve_rod.contact.layout import Patch, YarnChain, build_layout
+from rve_rod.geometry.bspline import BSplineCurve, open_knot_vector
+
+
+def random_boxes(rng, count, spread):
+    low = rng.uniform(0.0, spread, size=(3, count))
+    return np.concatenate([low, low + rng.uniform(0.0, 1.0, size=(3, count))])
+
+
+@pytest.mark.parametrize(
+    ("slaves", "masters", "spread"), [(1, 1, 1.0), (40, 70, 4.0), (300, 200, 8.0)]
+)
+def test_box_sweep_finds_exactly_the_brute_force_pairs(slaves, masters, spread):
+    rng = np.random.default_rng(slaves + masters)
+    slave_boxes = random_boxes(rng, slaves, spread)
+    master_boxes = random_boxes(rng, masters, spread)
+    # Touching boxes count as overlapping: make a few share a face exactly.
+    master_boxes[0, :3] = slave_boxes[3, : min(3, slaves)][: min(3, masters)]
+    order = np.argsort(master_boxes[0], kind="stable")
+    found = set(zip(*overlapping_boxes(slave_boxes, master_boxes, order), strict=True))
+    overlap = np.all(
+        (slave_boxes[:3, :, None] <= master_boxes[3:, None, :])
+        & (master_boxes[:3, None, :] <= slave_boxes[3:, :, None]),
+        axis=0,
+    )
+    expected = set(zip(*np.nonzero(overlap), strict=True))
+    assert found == expected
+
+
+def test_box_sweep_reports_the_count_beyond_its_buffer():
+    rng = np.random.default_rng(3)
+    boxes = random_boxes(rng, 30, 0.5)
+    order = np.argsort(boxes[0], kind="stable")
+    small = np.empty(5, dtype=np.int64)
+    count = _kernels.box_overlaps(boxes, boxes, order, small, small.copy())
+    assert count == len(set(zip(*overlapping_boxes(boxes, boxes, order), strict=True)))
+    assert count > 5
+
+
+def wavy_curve(degree, n, rng):
+    """A smooth space curve with non-uniform knots; spans short against its curvature radius."""
+    knots = open_knot_vector(degree, n)
+    knots[degree + 1 : n] = np.sort(rng.uniform(0.02, 0.98, n - degree - 1))
+    s = np.linspace(0, 1, n)
+    points = np.stack([4 * s, 0.5 * np.sin(5 * s), 0.3 * np.cos(4 * s)], axis=1)
+    return BSplineCurve(degree, knots, points + 0.003 * rng.normal(size=points.shape))
+
+
+def reference_minima(curve, point):
+    """All interior local minima of |C(u) - x| by dense sampling and Brent on the slope."""
+    u = np.linspace(*curve.domain, 20001)
+    slope = np.einsum("md,md->m", curve(u, 1), curve(u) - point)
+    minima = []
+    for a in np.flatnonzero((slope[:-1] <= 0) & (slope[1:] > 0)):
+        root = scipy.optimize.brentq(
+            lambda t: curve(np.array([t]), 1)[0] @ (curve(np.array([t]))[0] - point),
+            u[a],
+            u[a + 1],
+            xtol=1e-15,
+        )
+        minima.append(root)
+    return np.array(minima)
+
+
+@pytest.mark.parametrize("degree", [2, 3, 4])
+@pytest.mark.parametrize("spans_per_group", [1, 3, 64])
+def test_projection_finds_every_local_minimum_once(degree, spans_per_group):
+    # Points up to 0.7 from the curve: contact distances; an open end is not a minimum.
+    rng = np.random.default_rng(10 * degree + spans_per_group)
+    curve = wavy_curve(degree, 30, rng)
+    layout = build_layout([Patch(degree, curve.knots)], [YarnChain((0,))], curve.control_points)
+    groups = np.array(
+        [
+            [first, min(spans_per_group, layout.n_spans - first)]
+            for first in range(0, layout.n_spans, spans_per_group)
+        ]
+    ).T
+    targets = (curve(rng.uniform(0, 1, 12)) + rng.uniform(-0.4, 0.4, (12, 3))).T
+    candidates = np.repeat(np.arange(12), groups.shape[1])
+    group_of = np.tile(np.arange(groups.shape[1]), 12)
+    found = project(
+        layout.coefficients(curve.control_points),
+        groups,
+        layout.span_next,
+        layout.span_closed_end,
+        groups=group_of,
+        targets=targets[:, candidates],
+    )
+    parameter = layout.span_start[found.span] + found.tau * layout.span_length[found.span]
+    for j in range(12):
+        mine = np.sort(parameter[candidates[found.candidate] == j])
+        expected = reference_minima(curve, targets[:, j])
+        np.testing.assert_allclose(mine, expected, atol=1e-12)
+    # The reported geometry is the curve's: point, first and second derivative (in tau).
+    scale = layout.span_length[found.span]
+    np.testing.assert_allclose(found.point.T, curve(parameter), atol=1e-12)
+    np.testing.assert_allclose(found.tangent.T, curve(parameter, 1) * scale[:, None], atol=1e-11)
+    np.testing.assert_allclose(
+        found.curvature.T, curve(parameter, 2) * scale[:, None] ** 2, atol=1e-10
+    )
+
+
+def test_minimum_on_a_knot_is_owned_by_exactly_one_span():
+    degree, n = 3, 8
+    knots = open_knot_vector(degree, n)
+    s = np.linspace(0, 1, n)
+    curve = BSplineCurve(degree, knots, np.stack([s, 0 * s, 0 * s], axis=1))
+    layout = build_layout([Patch(degree, knots)], [YarnChain((0,))], curve.control_points)
+    knot = knots[degree + 2]
+    target = np.array([[curve(np.array([knot]))[0, 0]], [0.3], [0.0]])
+    groups = np.array([[0], [layout.n_spans]])
+    found = project(
+        layout.coefficients(curve.control_points),
+        groups,
+        layout.span_next,
+        layout.span_closed_end,
+        groups=np.array([0]),
+        targets=target,
+    )
+    assert found.candidate.size == 1
+    assert layout.span_start[found.span[0]] == knot
+    assert found.tau[0] == 0.0
+
+
+@pytest.mark.parametrize("contacts", [0, 1, 17])
+def test_block_entries_match_a_dense_numpy_assembly(contacts):
+    rng = np.random.default_rng(contacts)
+    degree, n_points, n_control = 3, 11, 25
+    blocks = rng.normal(size=(4, 3, 3, contacts))
+    slave = rng.integers(0, n_points, contacts)
+    first = rng.integers(0, n_control - degree, size=(3, contacts))
+    first[2, ::3] = -1  # some contacts without friction anchor
+    basis = rng.normal(size=(4, degree + 1, contacts))
+    size = 9 * 3 * (degree + 1) * contacts
+    rows, columns, values = (np.empty(size, np.int64), np.empty(size, np.int64), np.empty(size))
+    count = _kernels.block_entries(blocks, slave, n_points, first, basis, rows, columns, values)
+    assembled = np.zeros((3 * n_points, 3 * n_control))
+    np.add.at(assembled, (rows[:count], columns[:count]), values[:count])
+
+    expected = np.zeros((n_points, 3, n_control, 3))
+    for c in range(contacts):
+        for a in range(degree + 1):
+            expected[slave[c], :, first[0, c] + a] += blocks[0, ..., c] * basis[0, a, c]
+            expected[slave[c], :, first[1, c] + a] += (
+                blocks[1, ..., c] * basis[1, a, c] + blocks[2, ..., c] * basis[2, a, c]
+            )
+            if first[2, c] >= 0:
+                expected[slave[c], :, first[2, c] + a] += blocks[3, ..., c] * basis[3, a, c]
+    expected = expected.transpose(1, 0, 2, 3).reshape(3 * n_points, 3 * n_control)
+    np.testing.assert_allclose(assembled, expected, atol=1e-13)
+
+
+IDENTITY = np.eye(3)[:, :, None]
+
+
+def outer(a, b):
+    return a[:, None, :] * b[None, :, :]
+
+
+def matmul(a, b):
+    return np.einsum("ijk,jlk->ilk", a, b)
+
+
+def reference_contact_loads(v, tangent, metric, w, anchored, *, law, mu, k_t):
+    """Plain NumPy loads and blocks (4, 3, 3, k) over all contacts at once."""
+    d = np.linalg.norm(v, axis=0)
+    n = v / d
+    g = 2 * law.yarn_radius - d
+    force, slope = law.line_load(g), law.line_stiffness(g)
+    nn = outer(n, n)
+    projector = IDENTITY - nn
+    stiffness = -slope * nn + force / d * projector - force / (d * metric) * outer(tangent, tangent)
+    blocks = np.stack([stiffness, -stiffness, -(force / metric) * outer(tangent, n), 0 * stiffness])
+    load = force * n
+    if mu == 0:
+        return load, force, blocks, np.zeros(d.size)
+    normal_part = np.einsum("ck,ck->k", n, w)
+    slip = w - normal_part * n
+    g_matrix = -(normal_part * projector + outer(n, slip)) / d
+    gq = matmul(g_matrix, IDENTITY - outer(tangent, tangent) / metric)
+    d_tangent = -outer(np.einsum("ijk,jk->ik", g_matrix, tangent), v) / metric
+    trial = -k_t * slip
+    trial_norm = np.linalg.norm(trial, axis=0)
+    sliding = trial_norm > mu * force
+    scale = np.where(sliding, mu * force / trial_norm, 1.0)
+    direction = trial / trial_norm
+    tangential = -k_t * scale * (IDENTITY - sliding * outer(direction, direction))
+    normal_term = np.where(sliding, -mu * slope, 0.0) * outer(direction, n)
+    friction = np.stack(
+        [
+            matmul(tangential, projector + gq) + normal_term,
+            matmul(tangential, -gq) - normal_term,
+            matmul(tangential, d_tangent),
+            matmul(tangential, -projector),
+        ]
+    )
+    blocks = blocks + anchored * friction
+    load = load + anchored * scale * trial
+    state = np.where(anchored, np.where(sliding, 2, 1), 0)
+    return load, force, blocks, state
+
+
+@pytest.mark.parametrize("exponent", [1.0, 1.5, 2.4])
+@pytest.mark.parametrize(("mu", "slip_size"), [(0.0, 0.0), (0.3, 1e-4), (0.3, 0.05)])
+def test_contact_loads_kernel_matches_numpy(exponent, mu, slip_size):
+    rng = np.random.default_rng(int(10 * exponent) + int(1e4 * slip_size))
+    k, radius = 40, 0.2
+    law = CompressibleYarnLaw(stiffness=4.0, exponent=exponent, yarn_radius=radius)
+    v = rng.normal(size=(3, k))
+    v *= rng.uniform(0.05, 0.39, k) / np.linalg.norm(v, axis=0)  # penetrations 0.01 .. 0.35
+    tangent = rng.normal(size=(3, k))
+    tangent -= np.einsum("ck,ck->k", tangent, v) / np.einsum("ck,ck->k", v, v) * v
+    metric = np.einsum("ck,ck->k", tangent, tangent) * rng.uniform(0.5, 2.0, k)
+    w = slip_size * rng.normal(size=(3, k))
+    anchored = rng.uniform(size=k) < 0.7
+    outputs = (np.empty((3, k)), np.empty(k), np.empty((4, 3, 3, k)), np.empty(k, np.int8))
+    _kernels.contact_loads(
+        v,
+        tangent,
+        metric,
+        w,
+        anchored,
+        np.array([4.0, exponent, radius]),
+        np.array([mu, 2.0]),
+        *outputs,
+    )
+    expected = reference_contact_loads(v, tangent, metric, w, anchored, law=law, mu=mu, k_t=2.0)
+    for actual, reference in zip(outputs, expected, strict=True):
+        np.testing.assert_allclose(actual, reference, rtol=1e-12, atol=1e-14)
+    if mu > 0:  # both paths are exercised: stick for small slips, slip for large ones
+        assert (1 if slip_size < 1e-3 else 2) in set(outputs[3])

@@ -1,0 +1,120 @@
+"""Contact tangents (normal, stick, slip) against central finite differences, relative 1e-6."""
+
+import numpy as np
+import pytest
+
+from rve_rod.contact import (
+    CompressibleYarnLaw,
+    ContactModel,
+    CoulombFriction,
+    Patch,
+    YarnChain,
+)
+from rve_rod.contact.scenes import knit_like_loop
+from rve_rod.geometry.bspline import greville_abscissae, open_knot_vector
+
+STEP = 1e-7
+
+
+def loads(model, positions, deformation):
+    return model.evaluate(positions, deformation, tangent=False).line_load.ravel()
+
+
+def finite_difference_jacobians(model, positions, deformation):
+    """Central differences of the line loads w.r.t. all positions and F11, F12, F21, F22."""
+    flat = positions.ravel()
+    columns = []
+    for i in range(flat.size):
+        plus, minus = flat.copy(), flat.copy()
+        plus[i] += STEP
+        minus[i] -= STEP
+        columns.append(
+            loads(model, plus.reshape(-1, 3), deformation)
+            - loads(model, minus.reshape(-1, 3), deformation)
+        )
+    position_jacobian = np.array(columns).T / (2 * STEP)
+    columns = []
+    for a, b in ((0, 0), (0, 1), (1, 0), (1, 1)):
+        plus, minus = deformation.copy(), deformation.copy()
+        plus[a, b] += STEP
+        minus[a, b] -= STEP
+        columns.append(loads(model, positions, plus) - loads(model, positions, minus))
+    return position_jacobian, np.array(columns).T / (2 * STEP)
+
+
+def assert_relative(actual, expected, tolerance=1e-6):
+    scale = np.abs(expected).max()
+    assert scale > 0
+    assert np.abs(actual - expected).max() <= tolerance * scale
+
+
+def curved_crossed_rods(n=14, degree=4):
+    """Two curved rods crossing near the origin, centrelines about 0.2 apart (r = 0.2)."""
+    knots = open_knot_vector(degree, n)
+    g = greville_abscissae(knots, degree)
+    rod_0 = np.stack([-1 + 2 * g, 0.2 * np.sin(3 * g), 0.1 * np.cos(2 * g) + 0.05], axis=1)
+    rod_1 = np.stack([0.15 * np.cos(2 * g), -1 + 2 * g, -0.05 * g - 0.1], axis=1)
+    return [Patch(degree, knots), Patch(degree, knots)], np.vstack([rod_0, rod_1])
+
+
+LAW = CompressibleYarnLaw(stiffness=10.0, exponent=1.5, yarn_radius=0.2)
+
+
+@pytest.mark.parametrize(
+    ("friction", "shift", "state"),
+    [
+        (None, 0.01, "normal"),
+        (CoulombFriction(coefficient=5.0, tangential_stiffness=10.0), 0.01, "stick"),
+        (CoulombFriction(coefficient=0.3, tangential_stiffness=10.0), 0.05, "slip"),
+    ],
+)
+def test_crossed_rods_tangent(friction, shift, state):
+    patches, reference = curved_crossed_rods()
+    model = ContactModel(
+        patches, reference, LAW, friction=friction, yarns=[YarnChain((0,)), YarnChain((1,))]
+    )
+    positions = reference.copy()
+    positions[:14, 0] += shift
+    positions[:14, 1] += 0.5 * shift
+    positions[14:, 2] += 0.3 * shift * np.linspace(-1, 1, 14)
+    result = model.evaluate(positions)
+    stats = result.statistics
+    assert stats.active_contacts >= 4
+    if state == "stick":
+        assert stats.sticking == stats.active_contacts
+    if state == "slip":
+        assert stats.sliding == stats.active_contacts
+    fd_positions, _ = finite_difference_jacobians(model, positions, np.eye(3))
+    assert_relative(result.jacobian.toarray(), fd_positions)
+
+
+@pytest.mark.parametrize(
+    ("friction", "state"),
+    [
+        (None, "normal"),
+        (CoulombFriction(coefficient=10.0, tangential_stiffness=0.3), "stick"),
+        (CoulombFriction(coefficient=0.05, tangential_stiffness=30.0), "slip"),
+    ],
+)
+def test_knit_cell_tangent_with_images_under_shear(friction, state):
+    scene = knit_like_loop(n_control_points=12)
+    law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=0.17)
+    model = ContactModel(
+        scene.patches, scene.positions, law, friction=friction, lattice=scene.lattice
+    )
+    deformation = np.array([[1.03, 0.04, 0.0], [0.02, 0.985, 0.0], [0.0, 0.0, 1.0]])
+    rng = np.random.default_rng(5)
+    positions = scene.positions + 0.004 * rng.normal(size=scene.positions.shape)
+    result = model.evaluate(positions, deformation)
+    stats = result.statistics
+    images = {tuple(image) for image in result.contacts.image}
+    assert stats.active_contacts > 20
+    assert len(images - {(0, 0)}) >= 4  # contacts with several periodic images
+    anchored = stats.active_contacts - stats.without_anchor
+    if state == "stick":  # contacts with a tiny normal force may still slip
+        assert stats.sticking >= 0.9 * anchored > 0
+    if state == "slip":
+        assert stats.sliding >= 0.9 * anchored > 0
+    fd_positions, fd_deformation = finite_difference_jacobians(model, positions, deformation)
+    assert_relative(result.jacobian.toarray(), fd_positions)
+    assert_relative(result.deformation_jacobian, fd_deformation)

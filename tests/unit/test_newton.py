@@ -1,0 +1,129 @@
+"""Newton solver and load stepping on small analytic systems."""
+
+import itertools
+
+import numpy as np
+import pytest
+import scipy.sparse
+
+from rve_rod.errors import ConvergenceError, InputError
+from rve_rod.newton import (
+    NewtonOptions,
+    NonlinearProblem,
+    SteppingOptions,
+    newton_solve,
+    solve_path,
+)
+
+
+def convergence_orders(norms):
+    """log(r_k+1)/log(r_k) for iterates in the asymptotic range (1e-2 > r_k, r_k+1 > 1e-15)."""
+    return [np.log(b) / np.log(a) for a, b in itertools.pairwise(norms) if a < 1e-2 and b > 1e-15]
+
+
+def cubic_problem():
+    # R(u, t) = (u0^3 + u1 - 2t, u1^3 + 2 u1 - u0 - 2t): a regular root, (1, 1) at t = 1
+    def evaluate(u, t):
+        residual = np.array([u[0] ** 3 + u[1] - 2 * t, u[1] ** 3 + 2 * u[1] - u[0] - 2 * t])
+        jacobian = np.array([[3 * u[0] ** 2, 1.0], [-1.0, 3 * u[1] ** 2 + 2]])
+        return residual, scipy.sparse.csr_matrix(jacobian)
+
+    return NonlinearProblem(evaluate)
+
+
+def test_newton_converges_quadratically():
+    result = newton_solve(cubic_problem(), np.array([3.0, 4.0]), 1.0)
+    assert result.converged
+    np.testing.assert_allclose(result.state, [1.0, 1.0], atol=1e-12)
+    orders = convergence_orders(result.residual_norms)
+    assert len(orders) >= 2
+    assert min(orders) > 1.8
+
+
+def arctan_problem(calls):
+    # Newton on arctan(u - 10 t) diverges when started more than ~1.39 from the root.
+    def evaluate(u, t):
+        shifted = u[0] - 10 * t
+        with np.errstate(over="ignore"):  # diverging iterates are part of the test
+            slope = 1 / (1 + shifted**2)
+        return np.array([np.arctan(shifted)]), scipy.sparse.csr_matrix([[slope]])
+
+    return NonlinearProblem(evaluate, commit=lambda state, t: calls.append((t, state[0])))
+
+
+def test_cutback_recovers_and_commit_runs_after_every_converged_step():
+    commits = []
+    result = solve_path(
+        arctan_problem(commits),
+        np.zeros(1),
+        [0.5, 1.0],
+        stepping=SteppingOptions(extrapolate=False),
+    )
+    assert result.final_state[0] == pytest.approx(10.0, abs=1e-9)
+    assert [step.load_factor for step in result.steps] == [0.0, 0.5, 1.0]
+    assert result.steps[1].cutbacks >= 2  # 0.5 and 0.25 fail before 0.125 succeeds
+    assert len(commits) == sum(step.substeps for step in result.steps[1:])
+    times = [t for t, _ in commits]
+    assert times == sorted(times) and times[-1] == 1.0
+    np.testing.assert_allclose([u for _, u in commits], [10 * t for t in times], atol=1e-9)
+
+
+def test_extrapolation_saves_iterations_on_a_smooth_path():
+    plain = solve_path(
+        cubic_problem(),
+        np.zeros(2),
+        np.linspace(0.1, 1, 10),
+        stepping=SteppingOptions(extrapolate=False),
+    )
+    predicted = solve_path(cubic_problem(), np.zeros(2), np.linspace(0.1, 1, 10))
+    np.testing.assert_allclose(predicted.final_state, plain.final_state, atol=1e-12)
+    assert predicted.newton_iterations < plain.newton_iterations
+
+
+def test_path_beyond_a_limit_point_raises_with_the_converged_history():
+    # u^2 = 0.5 - t has no real root beyond t = 0.5 (a limit point).
+    def evaluate(u, t):
+        return np.array([u[0] ** 2 + t - 0.5]), scipy.sparse.csr_matrix([[2 * u[0]]])
+
+    problem = NonlinearProblem(evaluate)
+    with pytest.raises(ConvergenceError) as caught:
+        solve_path(
+            problem,
+            np.array([np.sqrt(0.5)]),
+            [0.25, 1.0],
+            stepping=SteppingOptions(min_increment=1e-4),
+        )
+    error = caught.value
+    last = error.last_converged
+    assert 0.49 < last.load_factor < 0.5
+    assert last.state[0] ** 2 + last.load_factor - 0.5 == pytest.approx(0.0, abs=1e-9)
+    assert [step.load_factor for step in error.history.steps] == [0.0, 0.25]
+    assert "t=0.49" in str(error)
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        (lambda: NewtonOptions(residual_tolerance=-1.0), "residual_tolerance=-1 must be > 0"),
+        (lambda: NewtonOptions(max_iterations=0), "max_iterations=0 is outside"),
+        (lambda: SteppingOptions(growth_factor=0.5), "growth_factor=0.5 must be >= 1"),
+    ],
+)
+def test_bad_options_raise_input_error(options, message):
+    with pytest.raises(InputError, match=message):
+        options()
+
+
+def test_load_factors_must_increase():
+    with pytest.raises(InputError, match="increase strictly"):
+        solve_path(cubic_problem(), np.zeros(2), [0.5, 0.2])
+
+
+def test_singular_jacobian_is_reported_not_raised():
+    def evaluate(u, t):  # rigid mode left in: the Jacobian has a zero column
+        return np.array([u[0] - t, 0.0 * u[1]]), scipy.sparse.csr_matrix([[1.0, 0.0], [0.0, 0.0]])
+
+    result = newton_solve(NonlinearProblem(evaluate), np.zeros(2), 1.0)
+    assert not result.converged
+    assert result.reason == "singular"
+    assert result.iterations == 0

@@ -1,0 +1,166 @@
+"""Numba kernels against plain NumPy references.
+
+The reference residual follows a different route from the kernel (spatial form
+n' = R' N + R N' with R' = R [k]x, moment balance m' + r' x n, rotation matrix from the
+Rodrigues form) and works on complex numbers, so its derivatives come from the complex step
+(exact to round-off): the kernel's analytic Jacobian is compared with them.
+"""
+
+import numpy as np
+import pytest
+import scipy.sparse
+
+from rve_rod.geometry.bspline import basis_functions, basis_matrix, open_knot_vector
+from rve_rod.rod import _kernels
+
+
+def skew(a):
+    zero = np.zeros_like(a[0])
+    return np.array([[zero, -a[2], a[1]], [a[2], zero, -a[0]], [-a[1], a[0], zero]])
+
+
+def reference_equations(kinematics, reference, stiffness):
+    """(residual (7, m), section (6, m)) in plain NumPy, complex-safe."""
+    ru, ruu = kinematics[0:3], kinematics[3:6]
+    q, qd, qdd = kinematics[6:10], kinematics[10:14], kinematics[14:18]
+    g0, g0u, k0, k0u = reference[0:3], reference[3:6], reference[6:9], reference[9:12]
+    jac, jac_u = reference[12], reference[13]
+    s = np.sum(q * q, axis=0)
+    c = np.sum(q * qd, axis=0)
+    vx = skew(q[1:])
+    rot = np.eye(3)[:, :, None] + 2.0 / s * (q[0] * vx + np.einsum("ijm,jkm->ikm", vx, vx))
+    w = q[0] * qd[1:] - qd[0] * q[1:] - np.cross(q[1:], qd[1:], axis=0)
+    k = 2.0 * w / s
+    w_u = q[0] * qdd[1:] - qdd[0] * q[1:] - np.cross(q[1:], qdd[1:], axis=0)
+    k_u = 2.0 * w_u / s - 2.0 * c * k / s
+    rot_u = np.einsum("ijm,jkm->ikm", rot, skew(k))
+    gam = np.einsum("jim,jm->im", rot, ru)
+    gam_u = np.einsum("jim,jm->im", rot_u, ru) + np.einsum("jim,jm->im", rot, ruu)
+    strain = (gam - g0) / jac
+    strain_u = (gam_u - g0u) / jac - (gam - g0) * jac_u / jac**2
+    bend = (k - k0) / jac
+    bend_u = (k_u - k0u) / jac - (k - k0) * jac_u / jac**2
+    big_n, big_nu = stiffness[:3] * strain, stiffness[:3] * strain_u
+    big_m, big_mu = stiffness[3:] * bend, stiffness[3:] * bend_u
+    n = np.einsum("ijm,jm->im", rot, big_n)
+    m = np.einsum("ijm,jm->im", rot, big_m)
+    n_u = np.einsum("ijm,jm->im", rot_u, big_n) + np.einsum("ijm,jm->im", rot, big_nu)
+    m_u = np.einsum("ijm,jm->im", rot_u, big_m) + np.einsum("ijm,jm->im", rot, big_mu)
+    residual = np.concatenate(
+        [n_u / jac, (m_u + np.cross(ru, n, axis=0)) / jac, (s - 1.0)[None]], axis=0
+    )
+    return residual, np.concatenate([n, m], axis=0)
+
+
+def random_point_data(seed, m=7):
+    rng = np.random.default_rng(seed)
+    kinematics = rng.normal(size=(18, m))
+    if seed % 2:  # near a physical state: unit quaternions, moderate gradients
+        kinematics[6:10] /= np.linalg.norm(kinematics[6:10], axis=0)
+        kinematics[10:] *= 0.1
+    reference = rng.normal(size=(14, m))
+    reference[12] = 0.5 + rng.random(m)
+    stiffness = np.concatenate([rng.uniform(1, 1e3, (3, m)), rng.uniform(1e-3, 1, (3, m))])
+    return kinematics, reference, stiffness
+
+
+def kernel_equations(kinematics, reference, stiffness, with_jacobian=True):
+    m = kinematics.shape[1]
+    out = (np.empty((7, m)), np.empty((6, m)), np.zeros((7, 18, m)), np.zeros((6, 18, m)))
+    _kernels.collocation_equations(kinematics, reference, stiffness, with_jacobian, *out)
+    return out
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_collocation_residual_matches_numpy_reference(seed):
+    kinematics, reference, stiffness = random_point_data(seed)
+    residual, section, _, _ = kernel_equations(kinematics, reference, stiffness, False)
+    expected_residual, expected_section = reference_equations(kinematics, reference, stiffness)
+    scale = np.abs(expected_residual).max(axis=1, keepdims=True)
+    np.testing.assert_allclose(residual / scale, expected_residual / scale, atol=1e-13)
+    np.testing.assert_allclose(section, expected_section, rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_collocation_jacobian_matches_complex_step(seed):
+    kinematics, reference, stiffness = random_point_data(seed)
+    _, _, d_residual, d_section = kernel_equations(kinematics, reference, stiffness)
+    step = 1e-30
+    for variable in range(18):
+        perturbed = kinematics.astype(complex)
+        perturbed[variable] += 1j * step
+        residual, section = reference_equations(perturbed, reference, stiffness)
+        scale = np.abs(d_residual).max(axis=(1, 2))[:, None] + 1e-300
+        np.testing.assert_allclose(
+            d_residual[:, variable] / scale, residual.imag / step / scale, atol=1e-12
+        )
+        np.testing.assert_allclose(d_section[:, variable], section.imag / step, atol=1e-10)
+
+
+@pytest.mark.parametrize("degree", [2, 3, 4])
+def test_gather_kinematics_matches_basis_matrices(degree):
+    rng = np.random.default_rng(degree)
+    n = 9
+    knots = open_knot_vector(degree, n)
+    params = rng.uniform(0, 1, 13)
+    control = rng.normal(size=(7, n))
+    basis = basis_functions(knots, degree, params, derivatives=2)
+    out = np.empty((18, params.size))
+    _kernels.gather_kinematics(
+        control, basis.spans - degree, np.ascontiguousarray(basis.values.transpose(0, 2, 1)), out
+    )
+    matrices = [basis_matrix(knots, degree, params, k) for k in range(3)]
+    np.testing.assert_allclose(out[0:3], (matrices[1] @ control[:3].T).T, atol=1e-12)
+    np.testing.assert_allclose(out[3:6], (matrices[2] @ control[:3].T).T, atol=1e-10)
+    for k in range(3):
+        np.testing.assert_allclose(
+            out[6 + 4 * k : 10 + 4 * k], (matrices[k] @ control[3:].T).T, atol=1e-10
+        )
+
+
+@pytest.mark.parametrize("degree", [2, 4])
+def test_scatter_jacobian_matches_dense_chain_rule(degree):
+    rng = np.random.default_rng(degree)
+    n = 8
+    knots = open_knot_vector(degree, n)
+    params = np.linspace(0, 1, n)
+    basis = basis_functions(knots, degree, params, derivatives=2)
+    values = np.ascontiguousarray(basis.values.transpose(0, 2, 1))
+    d_local = rng.normal(size=(7, 18, n))
+    matrices = [basis_matrix(knots, degree, params, k).toarray() for k in range(3)]
+    # dense: d res_r(j) / d x_c(i) = d_local[r, c] B1[j, i] + d_local[r, 3 + c] B2[j, i], etc.
+    dense = np.zeros((7 * n, 7 * n))
+    for r in range(7):
+        for c in range(3):
+            dense[r::7, c::7] = (
+                d_local[r, c][:, None] * matrices[1] + d_local[r, 3 + c][:, None] * matrices[2]
+            )
+        for c in range(4):
+            dense[r::7, 3 + c :: 7] = sum(
+                d_local[r, 6 + 4 * k + c][:, None] * matrices[k] for k in range(3)
+            )
+    # a CSR pattern holding exactly the (p+1)-wide blocks, rows 0..5 of point 0 left out
+    first = basis.spans - degree
+    rows = np.broadcast_to(
+        7 * np.arange(n)[None, None, None, :] + np.arange(7)[:, None, None, None],
+        (7, 7, degree + 1, n),
+    ).copy()
+    rows[:6, :, :, 0] = -1
+    columns = np.broadcast_to(
+        7 * (first[None, None, None, :] + np.arange(degree + 1)[None, None, :, None])
+        + np.arange(7)[None, :, None, None],
+        (7, 7, degree + 1, n),
+    )
+    mask = rows >= 0
+    pattern = scipy.sparse.csr_matrix(
+        (np.ones(mask.sum()), (rows[mask], columns[mask])), shape=(7 * n, 7 * n)
+    )
+    pattern.sort_indices()
+    keys = np.repeat(np.arange(7 * n), np.diff(pattern.indptr)) * 7 * n + pattern.indices
+    index = np.full(rows.shape, -1, dtype=np.int64)
+    index[mask] = np.searchsorted(keys, rows[mask] * 7 * n + columns[mask])
+    data = np.zeros(pattern.nnz)
+    _kernels.scatter_jacobian(d_local, values, index, data)
+    assembled = scipy.sparse.csr_matrix((data, pattern.indices, pattern.indptr)).toarray()
+    dense[:6] = 0.0
+    np.testing.assert_allclose(assembled, dense, atol=1e-12)
