@@ -100,3 +100,9 @@ def test_bad_settings_are_refused(field, value, message):
     settings = {"wale_width": 1.3, "course_height": 1.2, "yarn_radius": 0.15, field: value}
     with pytest.raises(InputError, match=message):
         SyntheticPhoto(**settings)
+
+
+def test_tube_wider_than_the_cell_is_refused():
+    line = np.array([[0.0, 0.5, 0.0], [1.0, 0.5, 0.0]])
+    with pytest.raises(InputError, match="yarn radius exceeds the cell"):
+        cell_height_map(line, 1.0, 1.0, 1.5, (8, 8))
