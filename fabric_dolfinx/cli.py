@@ -1,0 +1,179 @@
+"""The `fabric-dolfinx` command: membrane simulations of knitted fabric patches (MPI-ready).
+
+    fabric-dolfinx tension --surface surface.h5 --direction course|wale [--size 50]
+        [--elements 10] [--max-strain 0.2] [--steps 20] [--angle DEG] [--json]
+        [--xdmf out.xdmf] [--plot curve.png] [--rve-curve rve.json]
+
+Run it under `mpirun -n N` as it is; rank 0 prints. Bad input (`InputError`, including
+unusable arguments) prints one line and exits with status 2; a solve that cannot converge
+(`ConvergenceError`) prints one line and exits with status 3 after the converged steps were
+written (JSON, plot, XDMF).
+"""
+
+import argparse
+import json
+import logging
+import sys
+
+import numpy as np
+from mpi4py import MPI
+
+from fabric_dolfinx.io import read_rve_curve
+from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
+from fabric_dolfinx.plot import plot_force_strain
+from fabric_dolfinx.solve import SolverOptions
+from fabric_dolfinx.tension import TensionSetup, TensionTest
+from rve_rod.errors import ConvergenceError, InputError
+from rve_rod.surface import read_surface
+
+PROGRAM = "fabric-dolfinx"
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports usage errors as InputError (one line, exit status 2)."""
+
+    def error(self, message):
+        raise InputError(message)
+
+
+def _svk(text: str):
+    try:
+        values = [float(value) for value in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != 4:
+        raise InputError(f"--svk {text!r} must be four numbers E1,E2,NU12,G12 (N/mm, -, N/mm)")
+    return OrthotropicSVK(*values)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with its subcommands."""
+    parser = _Parser(prog=PROGRAM, description="Fabric-scale membrane simulations with DOLFINx.")
+    parser.add_argument("-v", "--verbose", action="count", default=0, help="more log output")
+    subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    tension = subparsers.add_parser(
+        "tension",
+        help="uniaxial tension of a square patch between clamps",
+        description="Uniaxial tension of a square patch: one edge clamped, the opposite edge "
+        "displaced; prints the force per width (gf/cm) against the nominal strain.",
+    )
+    material = tension.add_mutually_exclusive_group(required=True)
+    material.add_argument("--surface", help="response-surface file (HDF5) of the knit")
+    material.add_argument(
+        "--svk", metavar="E1,E2,NU12,G12", help="orthotropic Saint Venant-Kirchhoff instead"
+    )
+    tension.add_argument("--direction", default="course", help="course (x) or wale (y)")
+    tension.add_argument("--size", type=float, default=50.0, help="side of the patch (mm)")
+    tension.add_argument("--elements", type=int, default=10, help="elements per side")
+    tension.add_argument("--max-strain", type=float, default=0.2, help="final nominal strain")
+    tension.add_argument("--steps", type=int, default=20, help="load steps")
+    tension.add_argument(
+        "--angle", type=float, default=0.0, help="course direction against x (degrees)"
+    )
+    tension.add_argument("--degree", type=int, default=1, help="element degree (1 or 2)")
+    tension.add_argument("--linear-solver", default="lu", help="lu (MUMPS), gmres or cg")
+    tension.add_argument("--json", action="store_true", help="print one JSON object")
+    tension.add_argument("--xdmf", help="write displacement, strain, stress per step")
+    tension.add_argument("--plot", help="write the force-strain curve (PNG)")
+    tension.add_argument("--rve-curve", help="JSON with strain, force_gf_per_cm to plot beside")
+    tension.set_defaults(run=run_tension_command)
+    return parser
+
+
+def run_tension_command(args: argparse.Namespace) -> int:
+    """The `tension` subcommand; returns the exit status."""
+    comm = MPI.COMM_WORLD
+    test = TensionTest(
+        direction=args.direction,
+        size=args.size,
+        elements=args.elements,
+        max_strain=args.max_strain,
+        angle=args.angle,
+        element_degree=args.degree,
+    )
+    options = SolverOptions(linear_solver=args.linear_solver, steps=args.steps)
+    rve = read_rve_curve(args.rve_curve) if args.rve_curve else None
+    if args.surface:
+        material = surface_material(read_surface(args.surface), name=args.surface)
+    else:
+        material = svk_material(_svk(args.svk))
+    setup = TensionSetup(material, test, options, comm)
+    try:
+        result = setup.run(xdmf=args.xdmf)
+    except ConvergenceError as error:
+        _report(args, test, material.name, error.history, converged=False, rve=rve)
+        raise
+    _report(args, test, material.name, result, converged=True, rve=rve)
+    return 0
+
+
+def _report(args, test, material_name, result, *, converged, rve) -> None:
+    """Print (rank 0) and plot the force-strain curve of `result`."""
+    comm = MPI.COMM_WORLD
+    if args.plot:
+        curves = {f"membrane, {test.direction}": (result.strain, result.force_gf_per_cm)}
+        plot_force_strain(curves, args.plot, rve=rve, comm=comm)
+    if comm.rank != 0:
+        return
+    if args.json:
+        payload = {
+            "direction": test.direction,
+            "material": material_name,
+            "converged": converged,
+            "strain": result.strain.tolist(),
+            "force_gf_per_cm": result.force_gf_per_cm.tolist(),
+            "force_n_per_mm": result.force_n_per_mm.tolist(),
+            "newton_iterations": result.newton_iterations.tolist(),
+            "cutbacks": result.cutbacks,
+            "outside_domain": result.outside_domain,
+            "dofs": result.dofs,
+            "ranks": result.ranks,
+            "wall_time_s": result.wall_time_s,
+        }
+        json.dump(payload, sys.stdout, indent=2, allow_nan=False)
+        sys.stdout.write("\n")
+        return
+    print(f"{test.direction}-wise tension of a {test.size:g} mm patch, {material_name}")
+    print(f"{'strain (%)':>10} {'force (gf/cm)':>14} {'force (N/mm)':>13} {'Newton':>7}")
+    iterations = np.concatenate([[0], result.newton_iterations])
+    for strain, gf, n, its in zip(
+        result.strain, result.force_gf_per_cm, result.force_n_per_mm, iterations, strict=True
+    ):
+        print(f"{100 * strain:10.3f} {gf:14.4f} {n:13.6f} {its:7d}")
+    print(
+        f"dofs {result.dofs}, ranks {result.ranks}, Newton iterations "
+        f"{int(result.newton_iterations.sum())}, cutbacks {result.cutbacks}, "
+        f"wall time {result.wall_time_s:.3g} s"
+        + (", strains left the surface domain" if result.outside_domain else "")
+    )
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of `fabric-dolfinx`; returns the process exit status."""
+    rank = MPI.COMM_WORLD.rank
+    command = ""
+    try:
+        args = build_parser().parse_args(argv)
+        command = args.command
+        # The level sits on the handler: the JIT's distutils build lowers the root logger's.
+        handler = logging.StreamHandler()
+        handler.setLevel(logging.WARNING - 10 * min(args.verbose, 2))
+        handler.setFormatter(
+            logging.Formatter(f"[rank {rank}] %(levelname)s %(name)s: %(message)s")
+        )
+        logging.basicConfig(level=handler.level, handlers=[handler])
+        return int(args.run(args) or 0)
+    except InputError as error:
+        if rank == 0:
+            print(f"{PROGRAM} {command}: error: {error}".replace(" :", ":"), file=sys.stderr)
+        return 2
+    except ConvergenceError as error:
+        if rank == 0:
+            print(
+                f"{PROGRAM} {command}: not converged: {error}".replace(" :", ":"), file=sys.stderr
+            )
+        return 3
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,292 @@
+"""Uniaxial tension of a square fabric patch between clamps (the paper's macro-scale test).
+
+Course-wise: the left edge is clamped and the right edge displaced uniformly along x;
+wale-wise: the bottom edge is clamped and the top edge displaced along y (both clamps hold
+the other component at 0, like the grips of a tensile tester). The reported force is the
+reaction on the moving clamp along the load, per undeformed width of the patch, against the
+nominal strain (clamp displacement / patch length).
+"""
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+import scipy.optimize
+from dolfinx import fem
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from fabric_dolfinx.domain import StrainRangeCheck
+from fabric_dolfinx.io import CellFields, XDMFOutput
+from fabric_dolfinx.material import Material
+from fabric_dolfinx.membrane import membrane_forms, membrane_stress
+from fabric_dolfinx.mesh import rectangle_patch
+from fabric_dolfinx.solve import (
+    LoadPathResult,
+    LoadStepper,
+    SolverOptions,
+    StepResult,
+    boundary_indicator,
+)
+from rve_rod.errors import ConvergenceError, InputError, check_integer, check_positive, check_range
+from rve_rod.surface import ResponseSurface
+from rve_rod.units import n_per_mm_to_gf_per_cm
+
+DIRECTIONS = {"course": ("left", "right", 0), "wale": ("bottom", "top", 1)}
+"""Load direction -> (clamped boundary, moving boundary, displaced component)."""
+
+
+@dataclass(frozen=True)
+class TensionTest:
+    """A uniaxial tension test of a square patch.
+
+    Attributes:
+        direction: "course" (along x) or "wale" (along y).
+        size: side of the square patch (mm); the paper uses 50.
+        elements: elements per side; the paper uses 10.
+        max_strain: nominal strain at the end of the load path (-).
+        angle: course direction of the material against the x axis (degrees).
+        element_degree: Lagrange degree of the displacement (1 or 2).
+        quadrature_degree: Gauss rule exactness; None: twice the element degree.
+    """
+
+    direction: str = "course"
+    size: float = 50.0
+    elements: int = 10
+    max_strain: float = 0.2
+    angle: float = 0.0
+    element_degree: int = 1
+    quadrature_degree: int | None = None
+
+    def __post_init__(self):
+        if self.direction not in DIRECTIONS:
+            raise InputError(f"direction={self.direction!r} is not one of {', '.join(DIRECTIONS)}")
+        check_positive("size", self.size, "mm")
+        check_integer("elements", self.elements, 1, 4000)
+        check_range("max_strain", self.max_strain, 0.0, 1.0, closed=False)
+        check_range("angle", self.angle, -360.0, 360.0, "degrees")
+        check_integer("element_degree", self.element_degree, 1, 2)
+        if self.quadrature_degree is not None:
+            check_integer("quadrature_degree", self.quadrature_degree, 1, 12)
+
+
+class TensionResult(NamedTuple):
+    """Force-strain curve of a tension test (index 0 is the unloaded state).
+
+    Attributes:
+        strain: (k+1,) nominal strain.
+        force_n_per_mm: (k+1,) clamp reaction along the load per undeformed width (N/mm).
+        force_gf_per_cm: the same in gf/cm.
+        newton_iterations: (k,) iterations per converged step.
+        dofs: global number of degrees of freedom.
+        ranks: MPI ranks.
+        wall_time_s: time of the load path (s), without mesh generation and compilation.
+        cutbacks: failed attempts that were retried with half the step.
+        outside_domain: whether strains left the response-surface domain.
+        path: the solver's record (residual histories, reactions of both clamps).
+    """
+
+    strain: np.ndarray
+    force_n_per_mm: np.ndarray
+    force_gf_per_cm: np.ndarray
+    newton_iterations: np.ndarray
+    dofs: int
+    ranks: int
+    wall_time_s: float
+    cutbacks: int
+    outside_domain: bool
+    path: LoadPathResult
+
+
+class TensionSetup:
+    """Mesh, forms, boundary conditions and solver of a tension test, built once.
+
+    Attributes:
+        test, material, options: the inputs.
+        mesh: the TaggedMesh of the patch.
+        u: the displacement (mm).
+        stress: the MembraneStress expressions at u.
+        stepper: the LoadStepper (reactions "clamp" and "moving").
+    """
+
+    def __init__(
+        self,
+        material: Material,
+        test: TensionTest = TensionTest(),
+        options: SolverOptions | None = None,
+        comm: MPI.Comm = MPI.COMM_WORLD,
+    ):
+        options = options or SolverOptions()
+        self.test, self.material, self.options = test, material, options
+        self.mesh = rectangle_patch(
+            comm,
+            width=test.size,
+            height=test.size,
+            elements_x=test.elements,
+            elements_y=test.elements,
+        )
+        domain = self.mesh.mesh
+        space = fem.VectorFunctionSpace(domain, ("Lagrange", test.element_degree))
+        self.u = fem.Function(space, name="displacement")
+        self.angle = fem.Constant(domain, PETSc.ScalarType(math.radians(test.angle)))
+        self.quadrature_degree = test.quadrature_degree or 2 * test.element_degree
+        self.stress = membrane_stress(self.u, material.law, self.angle)
+        forms = membrane_forms(self.u, material.law, self.angle, self.quadrature_degree)
+        clamped, moving, component = DIRECTIONS[test.direction]
+        self._component = component
+        self._displacement = fem.Constant(domain, np.zeros(2, dtype=PETSc.ScalarType))
+        fdim = domain.topology.dim - 1
+        zero = fem.Constant(domain, np.zeros(2, dtype=PETSc.ScalarType))
+        bcs = [
+            fem.dirichletbc(
+                value,
+                fem.locate_dofs_topological(space, fdim, self.mesh.facets(name)),
+                space,
+            )
+            for value, name in ((zero, clamped), (self._displacement, moving))
+        ]
+        reactions = {
+            "clamp": boundary_indicator(space, self.mesh.facets(clamped)),
+            "moving": boundary_indicator(space, self.mesh.facets(moving)),
+        }
+        self.stepper = LoadStepper(
+            forms.residual, forms.jacobian, self.u, bcs, options=options, reactions=reactions
+        )
+        self.dofs = space.dofmap.index_map.size_global * space.dofmap.index_map_bs
+
+    def apply_load(self, load_factor: float) -> None:
+        """Displace the moving clamp by load_factor * max_strain * size along the load."""
+        value = np.zeros(2)
+        value[self._component] = load_factor * self.test.max_strain * self.test.size
+        self._displacement.value[:] = value
+
+    def run(
+        self,
+        xdmf: Path | str | None = None,
+        on_step: Callable[[float, CellFields | None], None] | None = None,
+        fields: bool = False,
+    ) -> TensionResult:
+        """Follow the load path from the unloaded patch.
+
+        Args:
+            xdmf: write displacement, strain and Cauchy stress per step to this XDMF file.
+            on_step: called after every converged step with (nominal strain, CellFields or
+                None); the fields are up to date when `fields` or `xdmf` is given.
+            fields: evaluate the cell fields after every step even without xdmf.
+
+        Raises ConvergenceError whose `history` is the TensionResult of the converged steps
+        (the XDMF file then holds them and is closed).
+        """
+        self.u.x.array[:] = 0.0
+        self.apply_load(0.0)
+        check = None
+        if self.material.domain is not None:
+            check = StrainRangeCheck(
+                self.stress.material_strain,
+                self.mesh.mesh,
+                self.material.domain,
+                self.quadrature_degree,
+            )
+        cell_fields = CellFields(self.u, self.stress) if (xdmf or fields) else None
+        outside = False
+        start = time.perf_counter()
+
+        def after_step(step: StepResult, output: XDMFOutput | None) -> None:
+            nonlocal outside
+            strain = round(step.load_factor * self.test.max_strain, 12)
+            if check is not None:
+                outside = check(strain) or outside
+            if output is not None:
+                output.write(strain)
+            elif cell_fields is not None:
+                cell_fields.update()
+            if on_step is not None:
+                on_step(strain, cell_fields)
+
+        try:
+            if xdmf is not None:
+                with XDMFOutput(xdmf, cell_fields) as output:
+                    output.write(0.0)
+                    path = self.stepper.run(self.apply_load, lambda s: after_step(s, output))
+            else:
+                path = self.stepper.run(self.apply_load, lambda s: after_step(s, None))
+        except ConvergenceError as error:
+            partial = self._result(error.history, outside, time.perf_counter() - start)
+            raise ConvergenceError(
+                str(error), last_converged=error.last_converged, history=partial
+            ) from None
+        return self._result(path, outside, time.perf_counter() - start)
+
+    def _result(self, path: LoadPathResult, outside: bool, wall_time: float) -> TensionResult:
+        strain = np.array([0.0] + [s.load_factor * self.test.max_strain for s in path.steps])
+        force = (
+            np.array([0.0] + [s.reactions["moving"][self._component] for s in path.steps])
+            / self.test.size
+        )
+        return TensionResult(
+            strain=strain,
+            force_n_per_mm=force,
+            force_gf_per_cm=n_per_mm_to_gf_per_cm(force),
+            newton_iterations=np.array([s.newton_iterations for s in path.steps], dtype=int),
+            dofs=self.dofs,
+            ranks=self.u.function_space.mesh.comm.size,
+            wall_time_s=wall_time,
+            cutbacks=path.cutbacks,
+            outside_domain=outside,
+            path=path,
+        )
+
+
+def run_tension(
+    material: Material,
+    test: TensionTest = TensionTest(),
+    options: SolverOptions | None = None,
+    comm: MPI.Comm = MPI.COMM_WORLD,
+    xdmf: Path | str | None = None,
+) -> TensionResult:
+    """Build and run a tension test (see TensionSetup.run)."""
+    return TensionSetup(material, test, options, comm).run(xdmf=xdmf)
+
+
+def homogeneous_response(
+    surface: ResponseSurface, strain: np.ndarray, direction: str, lateral: str = "free"
+) -> np.ndarray:
+    """Force per width (N/mm) of the material alone under homogeneous tension.
+
+    F = 1 + strain along the load; across it the stretch is free with zero stress
+    ("free": uniaxial tension, as the RVE's uniaxial load case) or held at 1 ("fixed":
+    strip-biaxial). The clamped patch lies between the two. Returns P = F S along the load
+    for each strain (numpy evaluation of the surface, no finite elements).
+    """
+    if direction not in DIRECTIONS:
+        raise InputError(f"direction={direction!r} is not one of {', '.join(DIRECTIONS)}")
+    if lateral not in ("free", "fixed"):
+        raise InputError(f"lateral={lateral!r} must be 'free' or 'fixed'")
+    axis = DIRECTIONS[direction][2]
+    other = 1 - axis
+    forces = []
+    for value in np.atleast_1d(np.asarray(strain, dtype=float)):
+        E_load = ((1.0 + value) ** 2 - 1.0) / 2.0
+
+        def stress(E_lateral, E_load=E_load):
+            E = np.zeros(3)
+            E[axis], E[other] = E_load, E_lateral
+            return surface.stress(E).S[0]
+
+        lateral_strain = 0.0
+        if lateral == "free":
+            try:
+                lateral_strain = scipy.optimize.brentq(
+                    lambda e, stress=stress: stress(e)[other], -0.5, 0.5, xtol=1e-15
+                )
+            except ValueError:
+                raise InputError(
+                    f"at strain {value:.4g} no lateral strain in [-0.5, 0.5] makes the "
+                    "lateral stress vanish"
+                ) from None
+        forces.append((1.0 + value) * stress(lateral_strain)[axis])
+    return np.array(forces)
