@@ -26,7 +26,7 @@ import time
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import UniaxialCourse
-from rve_rod.rve.simulate import RveSettings, simulate
+from rve_rod.rve.simulation import RveSettings, simulate
 
 FABRIC = load_preset("cotton-20s2", 5.5)
 PARTS = {

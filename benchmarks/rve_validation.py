@@ -21,7 +21,7 @@ from rve_rod.errors import ConvergenceError, InputError
 from rve_rod.presets import Fabric, Knit, Yarn, load_preset, stitch_values
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import load_case
-from rve_rod.rve.simulate import RveSettings, simulate
+from rve_rod.rve.simulation import RveSettings, simulate
 from rve_rod.rve.yarn import YarnSettings
 
 

@@ -12,7 +12,13 @@ from rve_rod.cli.common import add_fabric_arguments, fabric_from_args, print_jso
 from rve_rod.errors import ConvergenceError
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import CASES, load_case
-from rve_rod.rve.simulate import RveResult, RveSettings, RveStep, simulate
+from rve_rod.rve.simulation import (
+    GeometryUnavailableError,
+    RveResult,
+    RveSettings,
+    RveStep,
+    simulate,
+)
 from rve_rod.rve.yarn import YarnSettings
 
 
@@ -67,6 +73,9 @@ def run_simulate(args: argparse.Namespace) -> int:
     )
     try:
         result = simulate(fabric, case, settings, on_step=_progress)
+    except GeometryUnavailableError as error:
+        print(f"rve-rod simulate: cannot run: {error}", file=sys.stderr)
+        return 1
     except ConvergenceError as error:
         if isinstance(error.history, RveResult):
             _write(error.history, args)

@@ -6,3 +6,36 @@ conditions), `coupling` (contact with the lattice images as a rod load), `macro`
 deformation and stress P), `simulate` (load stepping, per-step outputs, results).
 See docs/rve.md.
 """
+
+from rve_rod.rve.engine import RodRve, surface_engine
+from rve_rod.rve.load_cases import (
+    CASES,
+    BiaxialRay,
+    LoadCase,
+    Shear,
+    StripBiaxialCourse,
+    StripBiaxialWale,
+    UniaxialCourse,
+    UniaxialWale,
+    load_case,
+)
+from rve_rod.rve.simulation import RveResult, RveSettings, RveStep, run_cell, simulate
+
+__all__ = [
+    "CASES",
+    "BiaxialRay",
+    "LoadCase",
+    "RodRve",
+    "RveResult",
+    "RveSettings",
+    "RveStep",
+    "Shear",
+    "StripBiaxialCourse",
+    "StripBiaxialWale",
+    "UniaxialCourse",
+    "UniaxialWale",
+    "load_case",
+    "run_cell",
+    "simulate",
+    "surface_engine",
+]

@@ -4,7 +4,7 @@ from pathlib import Path
 
 from matplotlib.figure import Figure
 
-from rve_rod.rve.simulate import RveResult
+from rve_rod.rve.simulation import RveResult
 
 
 def plot_curve(result: RveResult, path) -> Path:

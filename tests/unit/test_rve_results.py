@@ -10,7 +10,7 @@ from rve_cases import crane_quarters
 
 from rve_rod.cli.common import to_jsonable
 from rve_rod.errors import ConvergenceError
-from rve_rod.homogenize.generate import execute
+from rve_rod.homogenize.generate import EngineUnavailableError, execute
 from rve_rod.homogenize.samples import RveCase
 from rve_rod.homogenize.sampling import LoadPath, SamplingPlan
 from rve_rod.newton import NewtonOptions, SteppingOptions
@@ -18,7 +18,7 @@ from rve_rod.presets import Fabric, Knit, Yarn
 from rve_rod.rve import engine
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import load_case
-from rve_rod.rve.simulate import RveResult, RveSettings, simulate
+from rve_rod.rve.simulation import RveResult, RveSettings, simulate
 from rve_rod.rve.yarn import YarnSettings
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
@@ -113,4 +113,11 @@ def test_surface_engine_runs_a_path_and_reports_incomplete_ones(monkeypatch):
     assert not partial.complete
     assert partial.deformation_gradient.shape[0] < 3
     assert math.isfinite(float(np.sum(partial.first_piola)))
+
+
+def test_surface_engine_needs_the_loop_geometry(monkeypatch):
+    monkeypatch.setattr(engine, "geometry_available", lambda: False)
+    with pytest.raises(EngineUnavailableError, match="loop geometry"):
+        engine.surface_engine()
+    monkeypatch.setattr(engine, "geometry_available", lambda: True)
     assert engine.surface_engine() == engine.RodRve()

@@ -16,7 +16,7 @@ from rve_rod.newton import NewtonOptions, newton_solve, solve_path
 from rve_rod.presets import Fabric, Knit, Yarn
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import LoadCase, load_case
-from rve_rod.rve.simulate import RveSettings, build_cell, run_cell
+from rve_rod.rve.simulation import RveSettings, build_cell, run_cell
 from rve_rod.rve.yarn import YarnSettings
 
 FABRIC = Fabric(Yarn(minimal_radius=0.16, youngs_modulus=80.0), Knit(1.33, 1.26))

@@ -8,6 +8,8 @@ geometry and the cell first. Both return an `RveResult`, or raise `ConvergenceEr
 `history` is the `RveResult` of the converged states (`complete=False`).
 """
 
+import importlib
+import importlib.util
 import logging
 import time
 from collections.abc import Callable
@@ -406,10 +408,28 @@ def build_cell(
     return LoopCell(curves, fabric.knit, yarn, case, settings.cell)
 
 
+class GeometryUnavailableError(RuntimeError):
+    """The loop geometry (`rve_rod.geometry.loop`) is not installed, so a fabric's loop cannot
+    be built; pass the loop curves explicitly instead."""
+
+
+GEOMETRY_MODULE = "rve_rod.geometry.loop"
+"""The module that builds a fabric's loop (issue 2)."""
+
+
+def geometry_available() -> bool:
+    """Whether the loop geometry module is installed."""
+    return importlib.util.find_spec(GEOMETRY_MODULE) is not None
+
+
 def loop_curves(fabric: Fabric) -> list[BSplineCurve]:
     """The 4 quarter curves of the fabric's loop, built with the adjusted radius (issue 2)."""
-    from rve_rod.geometry import loop  # noqa: PLC0415 (the geometry lands separately)
-
+    if not geometry_available():
+        raise GeometryUnavailableError(
+            f"no loop geometry is available ({GEOMETRY_MODULE} is not installed); from Python, "
+            "pass the loop's 4 quarter curves: simulate(fabric, case, curves=...)"
+        )
+    loop = importlib.import_module(GEOMETRY_MODULE)
     return list(loop.loop_geometry(fabric.knit, fabric.yarn.minimal_radius).curves)
 
 
