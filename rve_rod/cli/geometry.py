@@ -1,0 +1,101 @@
+"""`rve-rod geometry`: build the single-jersey loop of a fabric and report it."""
+
+import argparse
+import logging
+from pathlib import Path
+
+import numpy as np
+
+from rve_rod.cli.common import add_fabric_arguments, fabric_from_args, print_json
+from rve_rod.errors import InputError, check_positive
+from rve_rod.geometry.loop import loop_geometry, loop_polylines
+from rve_rod.imaging import knit_from_photo
+from rve_rod.presets import Fabric, Knit, Yarn
+from rve_rod.vtk import write_polylines
+
+
+def register(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "geometry",
+        help="build the loop geometry of a fabric",
+        description="Build the minimum-length single-jersey loop (docs/geometry.md) for a "
+        "preset or explicit wale width, course height and yarn radius.",
+    )
+    add_fabric_arguments(parser)
+    parser.add_argument("--from-photo", type=Path, help="take w and c from a photo of the fabric")
+    parser.add_argument("--pixels-per-mm", type=float, help="scale of --from-photo (px/mm)")
+    parser.add_argument("--json", action="store_true", help="print one JSON object to stdout")
+    parser.add_argument("--plot", type=Path, help="write a PNG of the loop and its neighbours")
+    parser.add_argument("--vtk", type=Path, help="write the loop and its neighbours as .vtu")
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    fabric = _fabric(args)
+    geometry = loop_geometry(fabric.knit, fabric.yarn.minimal_radius)
+    written = []
+    if args.plot:
+        from rve_rod.geometry.plot import plot_loop  # noqa: PLC0415 (matplotlib on demand)
+
+        written.append(plot_loop(geometry, args.plot))
+    if args.vtk:
+        pieces = loop_polylines(geometry)
+        written.append(
+            write_polylines(
+                args.vtk,
+                [points for _, points in pieces],
+                geometry.yarn_radius,
+                {
+                    "image_i": [np.full(len(points), i) for (i, _), points in pieces],
+                    "image_j": [np.full(len(points), j) for (_, j), points in pieces],
+                },
+            )
+        )
+    report = {"preset": fabric.name or None, "stitch": fabric.knit.stitch_value}
+    report |= geometry.to_dict()
+    report["measured_loop_length"] = fabric.knit.measured_loop_length
+    report["files"] = [str(path) for path in written]
+    if args.json:
+        print_json(report)
+        return 0
+    r = geometry.yarn_radius
+    lines = [
+        f"loop of w = {geometry.wale_width:.4g} mm, c = {geometry.course_height:.4g} mm, "
+        f"r0 = {geometry.minimal_radius:.4g} mm",
+        f"  yarn radius        {r:.4g} mm"
+        + (" (adjusted to w/8)" if geometry.radius_adjusted else ""),
+        f"  loop length        {geometry.loop_length:.4f} mm"
+        + (
+            f" (measured {fabric.knit.measured_loop_length:.3f} mm, "
+            f"{100 * (geometry.loop_length / fabric.knit.measured_loop_length - 1):+.1f} %)"
+            if fabric.knit.measured_loop_length
+            else ""
+        ),
+        f"  head height h      {geometry.shape_parameter:.4f} mm (shape parameter)",
+        f"  depth delta        {geometry.depth:.4f} mm",
+        f"  min clearance      {geometry.min_clearance:.5f} mm = "
+        f"{geometry.min_clearance / (2 * r):.5f} x 2r (image {geometry.closest.image})",
+        "  control points     4 curves x 12, degree 4",
+    ]
+    lines += [f"  wrote {path}" for path in written]
+    print("\n".join(lines))
+    return 0
+
+
+def _fabric(args: argparse.Namespace) -> Fabric:
+    if args.from_photo is None:
+        if args.pixels_per_mm is not None:
+            raise InputError("--pixels-per-mm goes with --from-photo")
+        return fabric_from_args(args, need_material=False)
+    if args.pixels_per_mm is None:
+        raise InputError("--from-photo needs --pixels-per-mm (the photo's scale)")
+    if args.preset is not None or args.wale_width is not None or args.course_height is not None:
+        raise InputError("--from-photo replaces --preset, --wale-width and --course-height")
+    if args.yarn_radius is None:
+        raise InputError("--from-photo needs --yarn-radius (r0, mm)")
+    check_positive("pixels_per_mm", args.pixels_per_mm, "px/mm")
+    knit: Knit = knit_from_photo(args.from_photo, args.pixels_per_mm)
+    logging.getLogger(__name__).info(
+        "photo %s: w = %.4g mm, c = %.4g mm", args.from_photo, knit.wale_width, knit.course_height
+    )
+    return Fabric(yarn=Yarn(minimal_radius=args.yarn_radius, youngs_modulus=1.0), knit=knit)

@@ -1,0 +1,202 @@
+"""Clearance of a periodic yarn: the smallest centreline distance to its lattice images and to
+the non-adjacent parts of itself.
+
+The yarn is a chain of B-spline curves (each on [0, 1]) that continues into the next period
+shifted by the first lattice vector; images are shifted by i a1 + j a2. The search samples the
+chain, takes the closest sample pair per image, and refines it by Newton's method on the two
+chain parameters (distance between two smooth curves: the pair is a stationary point of
+|X(s) - X(t) - o|^2). Pairs closer than `adjacent_arc` along the yarn are adjacent parts of
+the same yarn, not a contact, and are skipped.
+"""
+
+from functools import cache
+from typing import NamedTuple
+
+import numpy as np
+import scipy.spatial
+
+from rve_rod.errors import InputError
+from rve_rod.geometry.bspline import BasisValues, BSplineCurve, basis_functions
+
+_SAMPLES_PER_CURVE = 48
+_NEWTON_ITERATIONS = 40
+
+
+class ChainClearance(NamedTuple):
+    """The closest pair of the yarn and an image of it.
+
+    Attributes:
+        distance: centreline distance (mm).
+        first: chain parameter s of the point on the yarn (curve index + curve parameter).
+        second: chain parameter t of the point on the image.
+        image: (i, j) lattice offset of the image.
+    """
+
+    distance: float
+    first: float
+    second: float
+    image: tuple[int, int]
+
+
+class _Chain:
+    """Evaluation of a periodic chain X(s), s = curve + u, continued by a1 per period.
+
+    The curves must share degree and knot vector (the loop's curves do), so one basis
+    evaluation serves all of them.
+    """
+
+    def __init__(self, curves: tuple[BSplineCurve, ...], period: np.ndarray):
+        first = curves[0]
+        for curve in curves[1:]:
+            if curve.degree != first.degree or not np.array_equal(curve.knots, first.knots):
+                raise InputError("the curves of a yarn chain must share degree and knots")
+        self.degree = first.degree
+        self.knots = first.knots
+        self.control_points = np.stack([curve.control_points for curve in curves])
+        self.period = period
+
+    def evaluate(self, s: np.ndarray, order: int = 0, basis=None) -> np.ndarray:
+        """Points and derivatives with respect to s, shape (order+1, m, 3); `basis` may hold
+        the basis functions at s - floor(s) when they are known already."""
+        n = self.control_points.shape[0]
+        whole = np.floor(s)
+        wraps = np.floor_divide(whole, n)
+        index = (whole - wraps * n).astype(int)
+        if basis is None:
+            basis = basis_functions(self.knots, self.degree, s - whole, order)
+        columns = basis.spans[:, None] - self.degree + np.arange(self.degree + 1)[None, :]
+        local = self.control_points[index[:, None], columns]  # (m, p+1, 3)
+        out = np.einsum("kma,mad->kmd", basis.values, local)
+        out[0] += wraps[:, None] * self.period[None, :]
+        return out
+
+
+def chain_clearance(
+    curves: tuple[BSplineCurve, ...] | list[BSplineCurve],
+    lattice: np.ndarray,
+    adjacent_arc: float,
+    *,
+    courses_only: bool = False,
+) -> ChainClearance:
+    """Smallest distance between the chain and its images (or itself, non-adjacent parts).
+
+    Args:
+        curves: consecutive curves of one period of the yarn, each on [0, 1], sharing degree
+            and knots (mm).
+        lattice: (2, 3) lattice vectors a1 (along the yarn's period) and a2 (mm).
+        adjacent_arc: parts of the yarn closer than this in arc length are skipped (mm).
+        courses_only: only the images shifted by j a2 with j >= 1 (the other courses).
+
+    Images (-i, -j) mirror (i, j) and are not searched separately.
+    """
+    lattice = np.asarray(lattice, dtype=float)
+    chain = _Chain(tuple(curves), lattice[0])
+    n = len(curves)
+    s = (np.arange(n * _SAMPLES_PER_CURVE) + 0.5) / _SAMPLES_PER_CURVE
+    points = chain.evaluate(s, basis=_sample_basis(chain.degree, tuple(chain.knots), n))[0]
+    steps = np.linalg.norm(np.diff(points, axis=0, append=points[:1] + lattice[0]), axis=1)
+    arc = np.concatenate([[0.0], np.cumsum(steps)[:-1]])
+    period_length = steps.sum()
+    images = [(i, j) for j in (1, 2) for i in (-1, 0, 1)]
+    if not courses_only:
+        images = [(0, 0), (1, 0), *images]
+    offsets = np.array([i * lattice[0] + j * lattice[1] for i, j in images])
+    shifted = (points[None, :, :] + offsets[:, None, :]).reshape(-1, 3)
+    distances = scipy.spatial.distance.cdist(points, shifted).reshape(
+        points.shape[0], len(images), points.shape[0]
+    )
+    for k, (i, j) in enumerate(images):
+        if j == 0:  # along the yarn, the image (i, 0) is the same yarn i periods further on
+            along = np.abs(arc[:, None] - (arc[None, :] + i * period_length))
+            distances[:, k, :][along < adjacent_arc] = np.inf
+    nearest = distances.min(axis=2)  # (samples, images): distance to the nearest image sample
+    overall = nearest.min()
+    # a sampled pair overestimates a distance by about spacing^2 / distance: every local
+    # minimum along the yarn within that of the best may hide the true minimum
+    slack = 2 * steps.max() ** 2 / max(overall, 1e-300) + 1e-3 * overall
+    previous, following = np.roll(nearest, 1, axis=0), np.roll(nearest, -1, axis=0)
+    local = (nearest <= previous) & (nearest <= following) & (nearest <= overall + slack)
+    rows, columns = np.nonzero(local)
+    shifts = np.array([images[k][0] for k in columns])
+    partners = np.array([np.argmin(distances[a, k]) for a, k in zip(rows, columns, strict=True)])
+    offsets = np.array([images[k][1] * lattice[1] for k in columns])
+    found, first, second = _refine(chain, s[rows], s[partners] + shifts * n, offsets)
+    best = int(np.argmin(found))
+    return ChainClearance(
+        float(found[best]),
+        float(first[best]),
+        float(second[best] - shifts[best] * n),
+        images[columns[best]],
+    )
+
+
+@cache
+def _sample_basis(degree: int, knots: tuple[float, ...], curves: int) -> BasisValues:
+    """Basis functions at the sample parameters of every curve (the same for each search)."""
+    u = np.tile((np.arange(_SAMPLES_PER_CURVE) + 0.5) / _SAMPLES_PER_CURVE, curves)
+    return basis_functions(np.array(knots), degree, u)
+
+
+def _refine(
+    chain: _Chain, s: np.ndarray, t: np.ndarray, offsets: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Local minima of |X(s) - X(t) - offset| near each pair (s, t), all pairs at once.
+
+    Newton's method with a trust region of four sample spacings and step halving: nearly
+    parallel yarns make the distance flat along the yarns, so a minimum may lie several
+    samples away from its sampled pair. Returns (distances, s, t), each of shape (k,).
+    """
+    k = s.size
+
+    def distance(first: np.ndarray, second: np.ndarray, shift: np.ndarray) -> np.ndarray:
+        values = chain.evaluate(np.concatenate([first, second]))[0]
+        return np.linalg.norm(values[: first.size] - values[first.size :] - shift, axis=1)
+
+    s, t = s.astype(float), t.astype(float)
+    current = distance(s, t, offsets)
+    limit = 4.0 / _SAMPLES_PER_CURVE
+    active = np.ones(k, dtype=bool)
+    for _ in range(_NEWTON_ITERATIONS):
+        if not active.any():
+            break
+        values = chain.evaluate(np.concatenate([s, t]), 2)
+        d = values[0, :k] - values[0, k:] - offsets
+        xs, xt = values[1, :k], values[1, k:]
+        gradient = np.stack([np.sum(d * xs, 1), -np.sum(d * xt, 1)], axis=1)
+        cross = -np.sum(xs * xt, 1)
+        h11 = np.sum(xs * xs, 1) + np.sum(d * values[2, :k], 1)
+        h22 = np.sum(xt * xt, 1) - np.sum(d * values[2, k:], 1)
+        determinant = h11 * h22 - cross**2
+        convex = (determinant > 0) & (h11 > 0)
+        safe = np.where(convex, determinant, 1.0)
+        newton = (
+            -np.stack(
+                [
+                    h22 * gradient[:, 0] - cross * gradient[:, 1],
+                    h11 * gradient[:, 1] - cross * gradient[:, 0],
+                ],
+                axis=1,
+            )
+            / safe[:, None]
+        )
+        # where the distance is not convex: steepest descent scaled by the diagonal curvature
+        descent = -gradient / np.maximum(np.abs(h11), np.abs(h22))[:, None]
+        step = np.where(convex[:, None], newton, descent)
+        largest = np.abs(step).max(axis=1)
+        step *= np.minimum(1.0, limit / np.maximum(largest, 1e-300))[:, None]
+        step[~active] = 0.0
+        trial = distance(s + step[:, 0], t + step[:, 1], offsets)
+        for _ in range(6):  # halve the steps that do not decrease the distance
+            worse = active & (trial > current)
+            if not worse.any():
+                break
+            step[worse] *= 0.5
+            trial[worse] = distance(
+                s[worse] + step[worse, 0], t[worse] + step[worse, 1], offsets[worse]
+            )
+        accepted = active & (trial <= current)
+        improvement = np.where(accepted, current - trial, 0.0)
+        s, t = s + np.where(accepted, step[:, 0], 0.0), t + np.where(accepted, step[:, 1], 0.0)
+        current = np.where(accepted, trial, current)
+        active = accepted & (np.abs(step).max(axis=1) > 1e-12) & (improvement > 1e-15 * current)
+    return current, s, t

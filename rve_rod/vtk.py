@@ -1,0 +1,51 @@
+"""Yarn centrelines as VTK files for ParaView: polylines with point data, via meshio.
+
+Render the yarns with ParaView's Tube filter, radius from the `radius` point array
+("Vary Radius: By Absolute Scalar").
+"""
+
+from pathlib import Path
+
+import meshio
+import numpy as np
+
+from rve_rod.errors import InputError
+
+
+def write_polylines(
+    path: str | Path,
+    polylines: list[np.ndarray],
+    radius: float,
+    point_data: dict[str, list[np.ndarray]] | None = None,
+) -> Path:
+    """Write polylines to an unstructured-grid file (.vtu).
+
+    Args:
+        path: output file; its folder is created if missing.
+        polylines: one (m_k, 3) array of points per yarn piece (mm).
+        radius: yarn radius (mm), stored as the point array `radius`.
+        point_data: optional named arrays, one (m_k,) array per polyline each.
+
+    Returns the path written. Besides `radius`, the point array `polyline` numbers the pieces.
+    """
+    path = Path(path)
+    if path.suffix != ".vtu":
+        raise InputError(f"VTK output {path}: the file name must end in .vtu")
+    if not polylines:
+        raise InputError(f"VTK output {path}: nothing to write")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    points, lines, offset = [], [], 0
+    for line in polylines:
+        count = line.shape[0]
+        points.append(line)
+        lines.append(offset + np.stack([np.arange(count - 1), np.arange(1, count)], axis=1))
+        offset += count
+    data = {
+        name: np.concatenate(values).astype(float) for name, values in (point_data or {}).items()
+    }
+    data["radius"] = np.full(offset, float(radius))
+    data["polyline"] = np.concatenate(
+        [np.full(line.shape[0], k, dtype=float) for k, line in enumerate(polylines)]
+    )
+    meshio.Mesh(np.vstack(points), [("line", np.vstack(lines))], point_data=data).write(path)
+    return path

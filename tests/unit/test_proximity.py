@@ -1,0 +1,33 @@
+"""Clearance search on cases with a known answer."""
+
+import numpy as np
+import pytest
+
+from rve_rod.errors import InputError
+from rve_rod.geometry.bspline import BSplineCurve, open_knot_vector
+from rve_rod.geometry.proximity import chain_clearance
+
+
+def straight_chain(direction):
+    """A straight yarn along `direction` in 4 curves over one period a1 = direction."""
+    knots = open_knot_vector(4, 6)
+    return [
+        BSplineCurve(4, knots, np.linspace(k / 4, (k + 1) / 4, 6)[:, None] * direction[None, :])
+        for k in range(4)
+    ]
+
+
+@pytest.mark.parametrize("slope", [0.0, 0.3, 1.2])
+def test_oblique_straight_courses_are_b_over_sqrt_1_plus_m2_apart(slope):
+    period = np.array([2.0, 2.0 * slope, 0.0])
+    lattice = np.array([period, [0.0, 0.7, 0.0]])
+    result = chain_clearance(straight_chain(period), lattice, adjacent_arc=1.0)
+    assert result.distance == pytest.approx(0.7 / np.sqrt(1 + slope**2), rel=1e-12)
+    assert result.image[1] == 1
+
+
+def test_curves_of_a_chain_must_share_knots():
+    curves = straight_chain(np.array([2.0, 0.0, 0.0]))
+    other = BSplineCurve(4, open_knot_vector(4, 10), np.zeros((10, 3)))
+    with pytest.raises(InputError, match="share degree and knots"):
+        chain_clearance([*curves[:3], other], np.eye(3)[:2], 1.0)
