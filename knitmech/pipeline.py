@@ -133,9 +133,12 @@ def run_scene(
         records.append(outcome.record)
         return outcome.summary
 
+    created = not folder.exists()
     try:
         geometry = run(geometry_stage(plan))
     except InputError as error:
+        if created:
+            shutil.rmtree(folder, ignore_errors=True)
         keys = ", ".join(f"fabric.{k}" for k in ("wale_width", "course_height", "yarn_radius"))
         raise SceneError(repr(plan.scene.name), [f"{keys}: {error}"]) from None
     meso = {stage.item: run(stage) for stage in meso_stages(plan)}

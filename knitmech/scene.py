@@ -296,13 +296,18 @@ def _check_values(parts: dict, problems: list[str], base: Path | None) -> None:
         problems.append(f"fabric.poissons_ratio: {fabric.poissons_ratio} is outside [0, 0.5)")
     if fabric.friction is not None and fabric.friction < 0:
         problems.append(f"fabric.friction: {fabric.friction} must be >= 0")
+    # a preset or stitch of the wrong type is reported once, not again as unknown or missing
+    reported = {
+        key for key in ("preset", "stitch") if any(p.startswith(f"fabric.{key}:") for p in problems)
+    }
     if fabric.preset is not None:
-        try:
-            load_preset(fabric.preset, fabric.stitch)
-        except InputError as error:
-            key = "fabric.stitch" if "stitch" in str(error) else "fabric.preset"
-            problems.append(f"{key}: {error}")
-    else:
+        if "stitch" not in reported:
+            try:
+                load_preset(fabric.preset, fabric.stitch)
+            except InputError as error:
+                key = "fabric.stitch" if "stitch" in str(error) else "fabric.preset"
+                problems.append(f"{key}: {error}")
+    elif "preset" not in reported:
         for key in ("wale_width", "course_height", "yarn_radius", "youngs_modulus"):
             if getattr(fabric, key) is None:
                 problems.append(f"fabric.{key}: required when fabric.preset is not given")
