@@ -31,6 +31,9 @@ MESO_CASES = (
 """Meso-scale load cases a scene may ask for by name (design.md); biaxial rays come from
 the surface sampling."""
 
+DEFAULT_SURFACE = "cotton-20s2_stitch-5.5.h5"
+"""File name of the default scene's surface in knitmech/data."""
+
 DIRECTIONS = ("course", "wale")
 SURFACE_KINDS = ("stress", "energy")
 FIDELITY_NAMES = tuple(LEVELS)
@@ -171,6 +174,12 @@ class Scene:
 def default_scene_path() -> Path:
     """Path of the built-in default scene (cotton 20s/2, stitch 5.5, 50 mm patch)."""
     return Path(str(files("knitmech").joinpath("data/default_scene.toml")))
+
+
+def default_surface_path() -> Path:
+    """The response surface of the default scene as `knitmech run` made it at the default
+    fidelity (shipped for the demos; docs/pipeline.md says how it is remade)."""
+    return Path(str(files("knitmech").joinpath(f"data/{DEFAULT_SURFACE}")))
 
 
 def load_scene(path: str | Path | None = None) -> Scene:
