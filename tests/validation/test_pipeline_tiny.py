@@ -18,6 +18,7 @@ Tolerances, and why:
 
 import dataclasses
 
+import numpy as np
 import pytest
 
 import knitmech.macro
@@ -155,3 +156,23 @@ def test_only_what_the_scene_needs_is_run(runs, tmp_path):
         ("macro", "course"): CACHED,
     }
     assert "runs" not in result.summary["surface"]  # no RVE run was even looked up
+
+
+@pytest.mark.slow
+@pytest.mark.mpi
+def test_patch_under_mpirun_equals_the_serial_run(runs, tmp_path):
+    resumed = runs["resumed"]
+    scene = {
+        **TINY,
+        "meso": {**TINY["meso"], "cases": []},
+        "surface": {"path": str(resumed.folder / "surface.h5")},
+        "macro": {**TINY["macro"], "directions": ["wale"], "ranks": 2},
+    }
+    result = run_scene(scene_from_dict(scene), output=tmp_path, cache_dir=tmp_path / "cache")
+    assert statuses(result)[("macro", "wale")] == COMPUTED
+    parallel, serial = result.summary["macro"]["wale"], resumed.summary["macro"]["wale"]
+    assert (parallel["ranks"], serial["ranks"]) == (2, 1)
+    for key in ("force_gf_per_cm", "lateral_strain"):
+        np.testing.assert_allclose(parallel[key], serial[key], rtol=1e-8, atol=1e-12)
+    assert (tmp_path / "paraview" / "patch_wale.xdmf").is_file()
+    assert (tmp_path / "figures" / "stress_wale.png").is_file()
