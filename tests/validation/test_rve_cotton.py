@@ -5,7 +5,7 @@ the model must reproduce are trends: course-wise force falls as the loop length 
 knits), wale-wise curves stiffen with strain, and the Poisson ratios at 20 % are those of a
 knit (positive, lateral contraction). Runs at a coarser resolution than the benchmark (24
 control points per quarter, 1 % steps) to keep the suite fast; docs/validation.md has the
-68-point tables. Skipped until the loop geometry (rve_rod.geometry.loop) is installed.
+68-point tables.
 """
 
 import numpy as np
@@ -14,12 +14,9 @@ import pytest
 from rve_rod.presets import load_preset, stitch_values
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import load_case
-from rve_rod.rve.simulation import RveSettings, geometry_available, simulate
+from rve_rod.rve.simulation import RveSettings, simulate
 
-pytestmark = [
-    pytest.mark.slow,
-    pytest.mark.skipif(not geometry_available(), reason="the loop geometry is not installed"),
-]
+pytestmark = pytest.mark.slow
 
 SETTINGS = RveSettings(cell=CellSettings(control_points=24))
 
