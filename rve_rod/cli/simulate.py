@@ -13,7 +13,6 @@ from rve_rod.errors import ConvergenceError
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import CASES, load_case
 from rve_rod.rve.simulation import (
-    GeometryUnavailableError,
     RveResult,
     RveSettings,
     RveStep,
@@ -73,9 +72,6 @@ def run_simulate(args: argparse.Namespace) -> int:
     )
     try:
         result = simulate(fabric, case, settings, on_step=_progress)
-    except GeometryUnavailableError as error:
-        print(f"rve-rod simulate: cannot run: {error}", file=sys.stderr)
-        return 1
     except ConvergenceError as error:
         if isinstance(error.history, RveResult):
             _write(error.history, args)

@@ -53,14 +53,14 @@ class CellSettings:
         control_points: control points per quarter curve after refinement (default 68, the
             paper's; at least the geometry's own count).
         cut: where the periodic cut sits, in quarter curves from the start of the loop, in
-            [0, 4) (default 0.5: half way along the first quarter, where the loop touches
-            nothing; docs/rve.md).
+            [0, 4) (default 1.0: the leg point at the loop's mid-height, outside the band
+            where courses overlap, so the loop touches nothing there; docs/rve.md).
         lateral_stiffness: kappa of `MacroBalance` relative to EA / c (default 1e-6).
         contact: contact search settings.
     """
 
     control_points: int = 68
-    cut: float = 0.5
+    cut: float = 1.0
     lateral_stiffness: float = 1e-6
     contact: ContactOptions = field(default_factory=ContactOptions)
 

@@ -5,10 +5,9 @@ pure-shear path of the sampling plan on the loop cell."""
 from dataclasses import dataclass, field
 
 from rve_rod.errors import ConvergenceError
-from rve_rod.homogenize.generate import EngineUnavailableError
 from rve_rod.homogenize.samples import RveCase, RveRun
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase, Shear
-from rve_rod.rve.simulation import GEOMETRY_MODULE, RveSettings, geometry_available, simulate
+from rve_rod.rve.simulation import RveSettings, simulate
 
 
 def path_case(load) -> LoadCase:
@@ -40,13 +39,5 @@ class RodRve:
 
 
 def surface_engine() -> RodRve:
-    """The engine `rve-rod surface` uses: the rod RVE with default settings.
-
-    Raises EngineUnavailableError while the loop geometry is not installed (no fabric's loop
-    can be built without it).
-    """
-    if not geometry_available():
-        raise EngineUnavailableError(
-            f"the rod RVE needs the loop geometry ({GEOMETRY_MODULE}), which is not installed"
-        )
+    """The engine `rve-rod surface` uses: the rod RVE with default settings."""
     return RodRve()

@@ -8,11 +8,11 @@ scalar), `image_i`, `image_j` and `arc_parameter` (the patch parameter in quarte
 
 from pathlib import Path
 
-import meshio
 import numpy as np
 
 from rve_rod.errors import InputError
 from rve_rod.rve.simulation import RveResult
+from rve_rod.vtk import write_polylines
 
 SAMPLES_PER_QUARTER = 48
 """Polyline points per quarter loop."""
@@ -38,21 +38,13 @@ def write_vtk(result: RveResult, folder, neighbours: int = 1) -> list[Path]:
         F = np.eye(3)
         F[:2, :2] = step.deformation
         centreline = result.centreline(index)(parameters)
-        points, lines, data = [], [], {"image_i": [], "image_j": [], "arc_parameter": []}
-        for i, j in shifts:
-            offset = F @ (i * lattice[0] + j * lattice[1])
-            start = len(points) * parameters.size
-            points.append(centreline + offset)
-            lines.append(
-                start + np.stack([np.arange(parameters.size - 1), np.arange(1, parameters.size)], 1)
-            )
-            data["image_i"].append(np.full(parameters.size, i))
-            data["image_j"].append(np.full(parameters.size, j))
-            data["arc_parameter"].append(parameters)
-        point_data = {name: np.concatenate(values).astype(float) for name, values in data.items()}
-        point_data["radius"] = np.full(len(shifts) * parameters.size, result.yarn.radius)
-        mesh = meshio.Mesh(np.vstack(points), [("line", np.vstack(lines))], point_data=point_data)
+        offsets = [F @ (i * lattice[0] + j * lattice[1]) for i, j in shifts]
+        data = {
+            "image_i": [np.full(parameters.size, float(i)) for i, _ in shifts],
+            "image_j": [np.full(parameters.size, float(j)) for _, j in shifts],
+            "arc_parameter": [parameters] * len(shifts),
+        }
         path = folder / f"state_{index:03d}.vtu"
-        mesh.write(path)
+        write_polylines(path, [centreline + offset for offset in offsets], result.yarn.radius, data)
         paths.append(path)
     return paths

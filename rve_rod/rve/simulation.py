@@ -8,8 +8,6 @@ geometry and the cell first. Both return an `RveResult`, or raise `ConvergenceEr
 `history` is the `RveResult` of the converged states (`complete=False`).
 """
 
-import importlib
-import importlib.util
 import logging
 import time
 from collections.abc import Callable
@@ -21,6 +19,7 @@ import numpy as np
 from rve_rod.contact import ContactStatistics
 from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.bspline import BSplineCurve
+from rve_rod.geometry.loop import loop_geometry
 from rve_rod.homogenize.samples import RveRun
 from rve_rod.newton import (
     NewtonOptions,
@@ -408,29 +407,9 @@ def build_cell(
     return LoopCell(curves, fabric.knit, yarn, case, settings.cell)
 
 
-class GeometryUnavailableError(RuntimeError):
-    """The loop geometry (`rve_rod.geometry.loop`) is not installed, so a fabric's loop cannot
-    be built; pass the loop curves explicitly instead."""
-
-
-GEOMETRY_MODULE = "rve_rod.geometry.loop"
-"""The module that builds a fabric's loop (issue 2)."""
-
-
-def geometry_available() -> bool:
-    """Whether the loop geometry module is installed."""
-    return importlib.util.find_spec(GEOMETRY_MODULE) is not None
-
-
 def loop_curves(fabric: Fabric) -> list[BSplineCurve]:
-    """The 4 quarter curves of the fabric's loop, built with the adjusted radius (issue 2)."""
-    if not geometry_available():
-        raise GeometryUnavailableError(
-            f"no loop geometry is available ({GEOMETRY_MODULE} is not installed); from Python, "
-            "pass the loop's 4 quarter curves: simulate(fabric, case, curves=...)"
-        )
-    loop = importlib.import_module(GEOMETRY_MODULE)
-    return list(loop.loop_geometry(fabric.knit, fabric.yarn.minimal_radius).curves)
+    """The 4 quarter curves of the fabric's loop, built with the adjusted radius."""
+    return list(loop_geometry(fabric.knit, fabric.yarn.minimal_radius).curves)
 
 
 def simulate(

@@ -1,14 +1,11 @@
-"""`rve-rod simulate`: JSON, report, plot and VTK files, partial runs (exit 3), bad input (exit 2).
-
-The loop of a fabric comes from the stand-in of rve_cases (monkeypatched in place of the
-project's loop geometry), at a coarse resolution."""
+"""`rve-rod simulate`: JSON, report, plot and VTK files, partial runs (exit 3), bad input (exit 2),
+at a coarse resolution."""
 
 import json
 
 import meshio
 import numpy as np
 import pytest
-from rve_cases import crane_quarters
 
 import rve_rod.cli.simulate as cli_simulate
 import rve_rod.rve.simulation as rve_simulation
@@ -19,12 +16,7 @@ ARGS = ["simulate", "--wale-width", "1.33", "--course-height", "1.26", "--yarn-r
 ARGS += ["--youngs-modulus", "80", "--control-points", "12", "--steps", "5"]
 
 
-@pytest.fixture
-def stand_in_loop(monkeypatch):
-    monkeypatch.setattr(rve_simulation, "loop_curves", lambda fabric: crane_quarters(1.33, 1.26))
-
-
-def test_json_is_the_only_stdout_and_progress_goes_to_stderr(stand_in_loop, tmp_path, capsys):
+def test_json_is_the_only_stdout_and_progress_goes_to_stderr(tmp_path, capsys):
     plot, vtk = tmp_path / "curve.png", tmp_path / "vtk"
     assert main([*ARGS, "--json", "--frictionless", "--plot", str(plot), "--vtk", str(vtk)]) == 0
     captured = capsys.readouterr()
@@ -47,16 +39,14 @@ def test_json_is_the_only_stdout_and_progress_goes_to_stderr(stand_in_loop, tmp_
     assert cell.sum() * 9 == len(mesh.points)
 
 
-def test_report_without_json(stand_in_loop, capsys):
+def test_report_without_json(capsys):
     assert main([*ARGS, "--case", "uniaxial-wale", "--frictionless"]) == 0
     out = capsys.readouterr().out
     assert out.startswith("uniaxial-wale: yarn radius 0.16 mm")
     assert "Poisson ratio" in out and "Newton iterations" in out
 
 
-def test_a_run_that_stops_writes_what_converged_and_exits_3(
-    stand_in_loop, tmp_path, monkeypatch, capsys
-):
+def test_a_run_that_stops_writes_what_converged_and_exits_3(tmp_path, monkeypatch, capsys):
     def hopeless(fabric, case, settings, on_step):
         settings = rve_simulation.RveSettings(
             cell=settings.cell,
@@ -85,17 +75,7 @@ def test_a_run_that_stops_writes_what_converged_and_exits_3(
         (["--control-points", "8"], "control_points=8 is below the geometry's own 12"),
     ],
 )
-def test_bad_input_is_one_line_and_exit_2(stand_in_loop, extra, message, capsys):
+def test_bad_input_is_one_line_and_exit_2(extra, message, capsys):
     assert main([*ARGS, *extra]) == 2
     error = capsys.readouterr().err
     assert message in error and error.count("\n") == 1
-
-
-def test_without_the_loop_geometry_simulate_says_so(monkeypatch, capsys):
-    monkeypatch.setattr(rve_simulation, "geometry_available", lambda: False)
-    assert main(["simulate", "--preset", "cotton-20s2", "--stitch", "5.5"]) == 1
-    error = capsys.readouterr().err
-    assert (
-        error.startswith("rve-rod simulate: cannot run: no loop geometry")
-        and error.count("\n") == 1
-    )

@@ -1,20 +1,19 @@
 """RVE results: per-step records, JSON export, the homogenization's RveRun, partial runs, and
-the surface engine's mapping of sampling paths to load cases (stand-in loop of rve_cases)."""
+the surface engine's mapping of sampling paths to load cases (the test loop of rve_cases)."""
 
 import json
 import math
 
 import numpy as np
 import pytest
-from rve_cases import crane_quarters
+from rve_cases import CURVES, FABRIC
 
 from rve_rod.cli.common import to_jsonable
 from rve_rod.errors import ConvergenceError
-from rve_rod.homogenize.generate import EngineUnavailableError, execute
+from rve_rod.homogenize.generate import execute
 from rve_rod.homogenize.samples import RveCase
 from rve_rod.homogenize.sampling import LoadPath, SamplingPlan
 from rve_rod.newton import NewtonOptions, SteppingOptions
-from rve_rod.presets import Fabric, Knit, Yarn
 from rve_rod.rve import engine
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import load_case
@@ -22,8 +21,6 @@ from rve_rod.rve.simulation import RveResult, RveSettings, simulate
 from rve_rod.rve.yarn import YarnSettings
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
-FABRIC = Fabric(Yarn(minimal_radius=0.16, youngs_modulus=80.0), Knit(1.33, 1.26))
-CURVES = crane_quarters(1.33, 1.26)
 COARSE = RveSettings(cell=CellSettings(control_points=12), yarn=YarnSettings(friction=False))
 
 
@@ -113,11 +110,3 @@ def test_surface_engine_runs_a_path_and_reports_incomplete_ones(monkeypatch):
     assert not partial.complete
     assert partial.deformation_gradient.shape[0] < 3
     assert math.isfinite(float(np.sum(partial.first_piola)))
-
-
-def test_surface_engine_needs_the_loop_geometry(monkeypatch):
-    monkeypatch.setattr(engine, "geometry_available", lambda: False)
-    with pytest.raises(EngineUnavailableError, match="loop geometry"):
-        engine.surface_engine()
-    monkeypatch.setattr(engine, "geometry_available", lambda: True)
-    assert engine.surface_engine() == engine.RodRve()

@@ -1,8 +1,8 @@
 """The periodic loop cell: rest state, independence of the cut, P as the energy derivative,
 the macro equations' tangents, Newton's rate, and friction's dissipation.
 
-All on the stand-in loop of `rve_cases` (Crane's parametric yarn at the size of the cotton
-fabric, stitch 5.5) with a yarn radius r = r0 = 0.16 mm that touches nothing at rest.
+All on the test loop of `rve_cases` (the cotton stitch-5.5 loop with a yarn radius of 0.16 mm
+that touches nothing at rest).
 """
 
 import itertools
@@ -10,20 +10,16 @@ from dataclasses import dataclass
 
 import numpy as np
 import pytest
-from rve_cases import crane_quarters
+from rve_cases import CURVES, FABRIC
 
 from rve_rod.newton import NewtonOptions, newton_solve, solve_path
-from rve_rod.presets import Fabric, Knit, Yarn
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import LoadCase, load_case
 from rve_rod.rve.simulation import RveSettings, build_cell, run_cell
 from rve_rod.rve.yarn import YarnSettings
 
-FABRIC = Fabric(Yarn(minimal_radius=0.16, youngs_modulus=80.0), Knit(1.33, 1.26))
-CURVES = crane_quarters(1.33, 1.26)
 
-
-def settings(friction=False, control_points=20, cut=0.5):
+def settings(friction=False, control_points=20, cut=1.0):
     return RveSettings(
         cell=CellSettings(control_points=control_points, cut=cut),
         yarn=YarnSettings(friction=friction),
@@ -82,16 +78,16 @@ def test_forces_do_not_depend_on_where_the_yarn_is_cut():
     """Cuts at mirror or glide images of each other give the same discrete cell; other cuts
     change only the knot layout, i.e. the discretization."""
     finals = {}
-    for cut in (0.5, 2.5, 0.3, 1.7):
+    for cut in (1.0, 3.0, 0.9, 1.1, 0.8):
         chosen = settings(cut=cut)
         cell = build_cell(CURVES, FABRIC, load_case("uniaxial-course", 0.2, 5), chosen)
         result = run_cell(cell, FABRIC, chosen)
         assert result.series("contacts_at_cut").max() == 0
         assert result.steps[-1].active_contacts > 10
         finals[cut] = np.array([result.steps[-1].first_piola[0, 0], result.poisson_ratio])
-    assert np.abs(finals[2.5] / finals[0.5] - 1).max() < 1e-8  # glide image (x + w/2, -y)
-    assert np.abs(finals[1.7] / finals[0.3] - 1).max() < 1e-8  # mirror image (-x)
-    assert np.abs(finals[0.3] / finals[0.5] - 1).max() < 2e-2  # other knots
+    assert np.abs(finals[3.0] / finals[1.0] - 1).max() < 1e-8  # glide image (x + w/2, -y)
+    assert np.abs(finals[1.1] / finals[0.9] - 1).max() < 1e-8  # 2-fold rotation about L
+    assert np.abs(finals[0.8] / finals[1.0] - 1).max() < 2e-2  # other knots
 
 
 def stored_energy(cell, state, load_factor):
@@ -127,15 +123,17 @@ def stored_energy(cell, state, load_factor):
 def test_macro_stress_is_the_derivative_of_the_stored_energy():
     """Frictionless: P_ab = dW/dF_ab / (w c) by central differences of re-equilibrated
     states. P12 and P22 are carried by the image contacts alone (with the 1/2 of the two
-    collocation passes). The two-pass contact forces are not exactly conservative, which
-    limits the agreement to about 1e-3 of |P| at any resolution (docs/rve.md)."""
+    collocation passes). The two-pass contact forces are not exactly conservative nor in
+    balance (the support takes a net force), which limits the agreement to 3e-4 of |P| in
+    P11, P22 and 1-1.7e-2 in P12, P21 at 20, 36 and 68 control points alike (docs/rve.md)."""
     chosen = settings(control_points=36)
     final = np.array([[1.12, 0.03], [0.02, 0.93]])
     cell = build_cell(CURVES, FABRIC, Fixed(final=tuple(map(tuple, final))), chosen)
     state = equilibrium(cell, [0.5, 1.0])
     derived = cell.evaluate_state(state, 1.0)
     P = derived.stress.first_piola
-    assert np.abs(derived.stress.images[0, 1]) > 0.5 * np.abs(P).max()  # P12: images only
+    assert derived.stress.images[0, 1] == pytest.approx(P[0, 1], rel=1e-12)  # images only
+    assert abs(P[0, 1]) > 0.2 * np.abs(P).max()
     step, area = 1e-4, 1.33 * 1.26
     for a, b in itertools.product(range(2), repeat=2):
         energies = []
@@ -147,16 +145,22 @@ def test_macro_stress_is_the_derivative_of_the_stored_energy():
             assert solved.converged
             energies.append(stored_energy(other, solved.state, 1.0))
         derivative = (energies[0] - energies[1]) / (2 * step * area)
-        assert abs(derivative - P[a, b]) < 3e-3 * np.abs(P).max(), (a, b, derivative, P)
+        tolerance = 3e-3 if a == b else 2.5e-2
+        assert abs(derivative - P[a, b]) < tolerance * np.abs(P).max(), (a, b, derivative, P)
+
+
+UNLOADED = 0.98
+"""Load factor of `loaded_state`: back from 15 % to 14.7 % strain."""
 
 
 def loaded_state(name, friction, control_points=12):
-    """A converged state at 15 % strain whose friction anchors are those of 10 %: the
-    contacts stick or slip (with friction) as within a load step."""
+    """A converged state at 14.7 % strain whose friction anchors are those of 15 %. Under
+    monotonic loading every contact slides (its elastic slip stays on the Coulomb cone); on the
+    reversal some contacts stick and some slip, so both branches of the friction law act."""
     chosen = settings(friction, control_points)
     cell = build_cell(CURVES, FABRIC, load_case(name, 0.15, 4), chosen)
-    previous = solve_path(cell.problem(), cell.reference_state(), [1 / 3, 2 / 3]).final_state
-    solved = newton_solve(cell.problem(), previous, 1.0)
+    previous = solve_path(cell.problem(), cell.reference_state(), [1 / 3, 2 / 3, 1.0]).final_state
+    solved = newton_solve(cell.problem(), previous, UNLOADED)
     assert solved.converged
     return cell, solved.state
 
@@ -170,8 +174,8 @@ def test_cell_jacobian_matches_central_differences(name, friction):
     F columns, and the macro equations of the free component (with friction in slip)."""
     cell, state = loaded_state(name, friction)
     model = cell.model
-    evaluation = model.evaluate(state, 1.0)
-    contacts = cell.coupling.result(state, 1.0).statistics
+    evaluation = model.evaluate(state, UNLOADED)
+    contacts = cell.coupling.result(state, UNLOADED).statistics
     assert contacts.active_contacts > 4
     if friction:
         assert contacts.sliding > 0 and contacts.sticking > 0
@@ -182,9 +186,9 @@ def test_cell_jacobian_matches_central_differences(name, friction):
         plus, minus = state.copy(), state.copy()
         plus[column] += step
         minus[column] -= step
-        differences[:, column] = (model.residual(plus, 1.0) - model.residual(minus, 1.0)) / (
-            2 * step
-        )
+        differences[:, column] = (
+            model.residual(plus, UNLOADED) - model.residual(minus, UNLOADED)
+        ) / (2 * step)
     scale = np.abs(differences).max(axis=1, keepdims=True)
     assert np.all(np.abs(jacobian - differences) <= 1e-6 * np.maximum(scale, 1e-12))
     macro = cell.macro.columns[0]
@@ -193,18 +197,23 @@ def test_cell_jacobian_matches_central_differences(name, friction):
 
 @pytest.mark.parametrize("friction", [False, True])
 def test_newton_error_after_one_step_is_quadratic(friction):
+    """Error after one Newton step from perturbed solutions: slope 2 in the perturbation size.
+    Beyond relative perturbations of about 1e-7 a contact near the Coulomb cone may switch
+    between stick and slip, which the tangent at the solution cannot foresee."""
     cell, solution = loaded_state("uniaxial-course", friction)
     problem = cell.problem()
     scale = cell.model.state_scale()
     direction = np.random.default_rng(3).normal(size=solution.size) * scale
     errors = []
-    for size in (1e-5, 1e-6, 1e-7):
+    sizes = np.array([1e-7, 3e-8, 1e-8])
+    for size in sizes:
         one_step = newton_solve(
-            problem, solution + size * direction, 1.0, NewtonOptions(max_iterations=1)
+            problem, solution + size * direction, UNLOADED, NewtonOptions(max_iterations=1)
         )
         errors.append(np.max(np.abs(one_step.state - solution) / scale))
-    ratios = [a / b for a, b in itertools.pairwise(errors)]
-    assert all(50 < ratio < 200 for ratio in ratios), ratios
+    slope = np.polyfit(np.log(sizes), np.log(errors), 1)[0]
+    assert 1.8 < slope < 2.2, errors
+    assert errors[-1] < 1e-10
 
 
 def test_free_direction_carries_no_stress():
@@ -220,8 +229,10 @@ def test_free_direction_carries_no_stress():
 
 def test_friction_dissipates_on_a_load_cycle():
     """Loading to 15 % and back: with friction the work done exceeds the stored energy at
-    every state and the unloading force is lower (hysteresis); without it the cycle is
-    reversible up to the two-pass contact's small non-conservativeness."""
+    every state, the unloading force is lower (hysteresis) and the cycle dissipates; without
+    it the cycle returns all its work (in between, the two-pass contact's non-conservativeness
+    shows as an apparent dissipation of up to 0.3 % of the work, the trapezoid rule's error at
+    the reversal as 0.2 %)."""
     dissipated = {}
     for friction in (False, True):
         chosen = settings(friction)
@@ -245,11 +256,11 @@ def test_friction_dissipates_on_a_load_cycle():
         dissipation = work - (energy - energy[0])
         peak = work.max()
         assert dissipation.min() > -1e-3 * peak  # never more out than in (trapezoid error)
-        assert np.diff(dissipation).min() > -1e-3 * peak  # dissipation only grows
         dissipated[friction] = dissipation[-1] / peak
         loading, unloading = P[1:15, 0, 0], P[29:15:-1, 0, 0]  # at the same strains
         if friction:
             assert np.all(unloading <= loading + 1e-8 * loading.max())
             assert (loading - unloading).max() > 0.02 * loading.max()
     assert abs(dissipated[False]) < 1e-6
+    assert dissipated[True] > 0.02
     assert dissipated[True] > 0.005
