@@ -5,10 +5,11 @@ between clamps: course-wise the left edge is clamped and the right edge moved al
 wale-wise the bottom edge is clamped and the top edge moved along y. The material is a
 response surface (the homogenized knit): by default the cotton 20s/2, stitch 5.5 surface that
 `knitmech run` makes for its default scene (shipped with the package, see docs/pipeline.md;
-`knitmech run` itself also runs this test, beside the RVE). The demo prints and plots the force per width in
-gf/cm against the strain, beside what the material alone gives in homogeneous uniaxial
-tension (and beside an RVE curve when one is given), and it writes the stress fields at 10 %
-(course) and 9 % (wale) like the paper's Figure 8, as PNG and as XDMF for ParaView.
+`knitmech run` itself also runs this test, beside the RVE). The demo prints and plots the
+force per width in gf/cm against the strain, beside what the material alone gives in
+homogeneous uniaxial tension (and beside an RVE curve when one is given), and it writes the
+stress fields at 10 % (course) and 9 % (wale) like the paper's Figure 8, as PNG and as XDMF
+for ParaView.
 
 Run it serially or in parallel; every option has a default:
 

@@ -52,10 +52,10 @@ LEVELS: dict[str, Fidelity] = {
             name="fast",
             control_points=20,
             meso_steps=9,
-            rays=8,
+            rays=24,
             steps_per_ray=5,
             shear_steps=6,
-            spans=4,
+            spans=8,
             shear_spans=4,
             elements=6,
             macro_steps=8,
@@ -64,10 +64,10 @@ LEVELS: dict[str, Fidelity] = {
             name="balanced",
             control_points=36,
             meso_steps=21,
-            rays=16,
+            rays=32,
             steps_per_ray=10,
             shear_steps=15,
-            spans=8,
+            spans=10,
             shear_spans=10,
             elements=10,
             macro_steps=20,
@@ -76,7 +76,7 @@ LEVELS: dict[str, Fidelity] = {
             name="accurate",
             control_points=68,
             meso_steps=41,
-            rays=24,
+            rays=48,
             steps_per_ray=20,
             shear_steps=30,
             spans=12,
@@ -86,7 +86,8 @@ LEVELS: dict[str, Fidelity] = {
         ),
     )
 }
-"""The levels a scene may name, from the cheapest to the most accurate."""
+"""The levels a scene may name, from the cheapest to the most accurate (chosen from the
+measurements of benchmarks/bench_pipeline.py, docs/pipeline.md)."""
 
 DEFAULT = "balanced"
 """The level of a scene that names none."""
@@ -95,11 +96,11 @@ REFERENCE = Fidelity(
     name="reference",
     control_points=132,
     meso_steps=41,
-    rays=32,
+    rays=64,
     steps_per_ray=20,
     shear_steps=30,
-    spans=12,
-    shear_spans=12,
+    spans=16,
+    shear_spans=16,
     elements=40,
     macro_steps=40,
     element_degree=2,

@@ -1,8 +1,6 @@
 """`knitmech run` refuses bad scenes before computing anything: exit status 2, one line per
 problem naming its key, no results and no cache written."""
 
-import pytest
-
 from knitmech.cli import main
 
 
@@ -49,7 +47,6 @@ def test_corrupt_surface_file_is_refused_naming_the_key(tmp_path, capsys):
     assert nothing_written(tmp_path)
 
 
-@pytest.mark.slow
 def test_impossible_geometry_is_refused_before_the_rve_runs(tmp_path, capsys):
     text = """
 [fabric]

@@ -8,12 +8,14 @@ a 50 mm patch on 4 x 4 elements in 4 steps to 10 %.
 
 Tolerances, and why:
 * surface alone against the RVE, 10 %: the fitted surface, loaded in homogeneous uniaxial
-  tension, must give the RVE's uniaxial force within 10 %. It is fitted to biaxial rays, not to
-  the uniaxial path, with 4 knot spans; at balanced fidelity the difference is 2-3 %.
+  tension, must give the RVE's uniaxial force within 6 %. It is fitted to biaxial rays, not to
+  the uniaxial path (16 rays of 5 steps here); the benchmark's levels are within 1 % of the
+  reference there (docs/pipeline.md), this scene within 2 %.
 * patch against surface alone: the clamps hold the patch ends at lateral stretch 1, so the patch
   is stiffer than the material in uniaxial tension (lower bound 0), and a square patch stays
-  close to it (upper bound 8 %; at balanced fidelity it is 3-4 %).
-* patch against RVE, 10 %: the two effects add up: within 15 %.
+  close to it: at most 8 % (measured 1-2 % course-wise and 4-5 % wale-wise, where the
+  material's Poisson ratio, 0.27, is larger than course-wise, 0.1).
+* patch against RVE, 10 %: the two effects add up: within 10 %.
 """
 
 import dataclasses
@@ -36,9 +38,9 @@ TINY = {
     "surface": {"rays": 16, "max_strain": 0.12, "max_compression": 0.06, "shear_max_strain": 0.1},
     "macro": {"elements": 4, "max_strain": 0.1, "steps": 4},
 }
-SURFACE_ALONE_TOLERANCE = 0.10
+SURFACE_ALONE_TOLERANCE = 0.06
 CLAMP_STIFFENING_BOUND = 0.08
-MACRO_MESO_TOLERANCE = 0.15
+MACRO_MESO_TOLERANCE = 0.10
 
 
 class PowerCutError(Exception):
