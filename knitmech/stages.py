@@ -25,12 +25,16 @@ from knitmech.stage_cache import Stage
 from rve_rod.cache import ResultCache
 from rve_rod.cli.common import to_jsonable
 from rve_rod.errors import ConvergenceError
+from rve_rod.geometry.loop import loop_geometry
 from rve_rod.homogenize.fit import FitOptions
+from rve_rod.homogenize.generate import engine_identity, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
 from rve_rod.presets import Fabric
-from rve_rod.rve import RveSettings, load_case
+from rve_rod.rve import RodRve, RveSettings, load_case, simulate
 from rve_rod.rve.cell import CellSettings
+from rve_rod.rve.output import write_vtk
 from rve_rod.rve.yarn import YarnSettings
+from rve_rod.surface import read_surface, write_surface
 
 logger = logging.getLogger(__name__)
 
@@ -113,7 +117,6 @@ def geometry_stage(plan: RunPlan) -> Stage:
     }
 
     def compute(folder: Path) -> dict:
-        from rve_rod.geometry.loop import loop_geometry  # noqa: PLC0415
         from rve_rod.geometry.plot import plot_loop  # noqa: PLC0415 (matplotlib on demand)
 
         geometry = loop_geometry(knit, radius)
@@ -142,8 +145,6 @@ def _meso_stage(plan: RunPlan, name: str, max_strain: float, steps: int) -> Stag
     }
 
     def compute(folder: Path) -> dict:
-        from rve_rod.rve import simulate  # noqa: PLC0415
-        from rve_rod.rve.output import write_vtk  # noqa: PLC0415
         from rve_rod.rve.plot import plot_curve  # noqa: PLC0415 (matplotlib on demand)
 
         def progress(step):
@@ -200,8 +201,6 @@ class SurfaceRuns(NamedTuple):
 
 def surface_stage(plan: RunPlan, runs: SurfaceRuns) -> Stage:
     """The response surface: RVE runs along the sampling plan, the fit, the file and figure."""
-    from rve_rod.homogenize.generate import engine_identity  # noqa: PLC0415
-    from rve_rod.rve import RodRve  # noqa: PLC0415
 
     engine = RodRve(plan.rve)
     inputs = {
@@ -214,8 +213,6 @@ def surface_stage(plan: RunPlan, runs: SurfaceRuns) -> Stage:
     }
 
     def compute(folder: Path) -> dict:
-        from rve_rod.homogenize.generate import generate_surface  # noqa: PLC0415
-        from rve_rod.surface import write_surface  # noqa: PLC0415
 
         generated = generate_surface(
             plan.fabric,
@@ -245,7 +242,6 @@ def surface_stage(plan: RunPlan, runs: SurfaceRuns) -> Stage:
 
 def given_surface(path: Path, folder: Path) -> dict:
     """Copy a surface file the scene gives into `folder`, plot it; returns its summary."""
-    from rve_rod.surface import read_surface  # noqa: PLC0415
 
     shutil.copyfile(path, folder / SURFACE_FILE)
     surface = read_surface(folder / SURFACE_FILE)
