@@ -48,6 +48,9 @@ class NonlinearProblem:
     commit: Callable[[np.ndarray, float], None] | None = None
 
 
+_ORDERINGS = ("COLAMD", "NATURAL", "MMD_ATA", "MMD_AT_PLUS_A")
+
+
 @dataclass(frozen=True)
 class NewtonOptions:
     """Options of one Newton solve.
@@ -58,18 +61,33 @@ class NewtonOptions:
         max_iterations: iterations before the solve counts as failed (25).
         divergence_factor: the solve fails when the scaled residual exceeds this factor times
             max(first scaled residual, 1) (1e8).
+        line_search: most step halvings per iteration when the Newton step does not lower
+            the scaled residual's root mean square (default 0: plain Newton). Each halving
+            costs one evaluation; it damps the cycles Newton can fall into on non-smooth or
+            nearly singular systems (contact that barely touches, a free direction that is
+            almost unloaded).
+        ordering: column ordering of the sparse LU (SuperLU's permc_spec): "COLAMD"
+            (default), "NATURAL" (for banded systems whose few dense rows and columns come
+            last), "MMD_ATA" or "MMD_AT_PLUS_A".
     """
 
     residual_tolerance: float = 1e-10
     increment_tolerance: float = 1e-10
     max_iterations: int = 25
     divergence_factor: float = 1e8
+    line_search: int = 0
+    ordering: str = "COLAMD"
 
     def __post_init__(self):
         check_positive("residual_tolerance", self.residual_tolerance)
         check_positive("increment_tolerance", self.increment_tolerance)
         check_integer("max_iterations", self.max_iterations, 1)
         check_positive("divergence_factor", self.divergence_factor)
+        check_integer("line_search", self.line_search, 0, 60)
+        if self.ordering not in _ORDERINGS:
+            raise InputError(
+                f"ordering={self.ordering!r} is unknown; valid: {', '.join(_ORDERINGS)}"
+            )
 
 
 @dataclass(frozen=True)
@@ -176,6 +194,13 @@ def _scaled_norm(values: np.ndarray, scale) -> float:
     return float(np.max(np.abs(values) / scale))
 
 
+def _mean_square(values: np.ndarray, scale) -> float:
+    """Mean square of the scaled residual (inf if not finite): the line search's merit."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        value = float(np.mean((values / scale) ** 2)) if values.size else 0.0
+    return value if np.isfinite(value) else np.inf
+
+
 def newton_solve(
     problem: NonlinearProblem,
     state: np.ndarray,
@@ -194,12 +219,23 @@ def newton_solve(
             reason = "not finite"
             break
         try:
-            increment = scipy.sparse.linalg.splu(scipy.sparse.csc_matrix(jacobian)).solve(-residual)
+            factors = scipy.sparse.linalg.splu(
+                scipy.sparse.csc_matrix(jacobian), permc_spec=options.ordering
+            )
+            increment = factors.solve(-residual)
         except RuntimeError:  # SuperLU: "Factor is exactly singular"
             reason = "singular"
             break
-        state = state + increment
-        residual, jacobian = problem.evaluate(state, load_factor)
+        merit = _mean_square(residual, problem.residual_scale)
+        trial = state + increment
+        residual, jacobian = problem.evaluate(trial, load_factor)
+        for _ in range(options.line_search):
+            if _mean_square(residual, problem.residual_scale) < merit:
+                break
+            increment = 0.5 * increment
+            trial = state + increment
+            residual, jacobian = problem.evaluate(trial, load_factor)
+        state = trial
         residual_norms.append(_scaled_norm(residual, problem.residual_scale))
         increment_norms.append(_scaled_norm(increment, problem.state_scale))
         logger.debug(

@@ -13,7 +13,7 @@ import sys
 from rve_rod import __version__
 from rve_rod.errors import ConvergenceError, InputError
 
-SUBCOMMANDS: tuple[str, ...] = ("geometry", "surface", "measure", "synth_photo")
+SUBCOMMANDS: tuple[str, ...] = ("geometry", "simulate", "surface", "measure", "synth_photo")
 """Names of the subcommand modules in this package, in the order `--help` lists them."""
 
 

@@ -1,7 +1,7 @@
 """`rve-rod surface` (generate a response-surface file) and `rve-rod surface-info` (describe one).
 
 `surface` runs the rod RVE along the sampling plan (in parallel, cached, resumable), fits the
-surface and writes it; it needs the RVE engine of `rve_rod.rve` and says so when it is missing.
+surface and writes it.
 """
 
 import argparse
@@ -14,13 +14,9 @@ from rve_rod.cache import ResultCache
 from rve_rod.cli.common import add_fabric_arguments, fabric_from_args, print_json
 from rve_rod.errors import InputError
 from rve_rod.homogenize.fit import FitOptions, FitReport
-from rve_rod.homogenize.generate import (
-    EngineUnavailableError,
-    GenerationError,
-    default_engine,
-    generate_surface,
-)
+from rve_rod.homogenize.generate import GenerationError, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
+from rve_rod.rve.engine import surface_engine
 from rve_rod.surface import STRESS_GROUPS, ResponseSurface, read_surface, write_surface
 
 
@@ -75,11 +71,7 @@ def run_surface(args: argparse.Namespace) -> int:
     output = Path(args.output)
     if not output.parent.is_dir():
         raise InputError(f"--output {output}: folder {output.parent} does not exist")
-    try:
-        engine = default_engine()
-    except EngineUnavailableError as error:
-        print(f"rve-rod surface: cannot generate: {error}", file=sys.stderr)
-        return 1
+    engine = surface_engine()
     cache = ResultCache(Path(args.cache_dir) if args.cache_dir else default_cache_dir())
     try:
         generated = generate_surface(

@@ -136,6 +136,11 @@ class ActiveContacts(NamedTuple):
     friction_load: np.ndarray
     sliding: np.ndarray
 
+    @property
+    def load(self) -> np.ndarray:
+        """(3, k) total line load f_n n + f_t of each contact on its slave point (N/mm)."""
+        return self.normal_load * self.normal + self.friction_load
+
 
 @dataclass(frozen=True, eq=False)
 class ContactResult:
@@ -154,6 +159,12 @@ class ContactResult:
         statistics: counts of the search and of the contact states.
         trial_history: the friction anchors this state would leave if committed (None without
             friction).
+        contact_jacobian: (3k, 3n) sparse COO d load / d positions of each active contact
+            (row c k + i is component c of contact i's load, `ActiveContacts.load`), for
+            callers that weight contacts individually (e.g. by their lattice image, as the
+            macro stress of the periodic cell does). None if not requested.
+        contact_deformation_jacobian: (3k, 4) d load / d (F11, F12, F21, F22) per contact,
+            rows as in `contact_jacobian`. None if not requested.
     """
 
     line_load: np.ndarray
@@ -162,6 +173,8 @@ class ContactResult:
     contacts: ActiveContacts
     statistics: ContactStatistics
     trial_history: FrictionHistory | None
+    contact_jacobian: scipy.sparse.coo_matrix | None = None
+    contact_deformation_jacobian: np.ndarray | None = None
 
 
 class _Anchors(NamedTuple):
@@ -321,9 +334,10 @@ class ContactModel:
         if self.friction is not None:
             trial_history = self._trial_history(detected, active_rows, loads)
         line_load = _sum_per_point(active.slave, loads.load, layout.n_points)
-        jacobian = deformation_jacobian = None
+        jacobian = deformation_jacobian = per_contact = None
         if tangent:
-            jacobian, deformation_jacobian = self._linearization(loads, active, anchors)
+            per_contact = self._linearization(loads, active, anchors)
+            jacobian, deformation_jacobian = _per_point(per_contact, active.slave, layout.n_points)
         penetration = 2.0 * radius - active.state.distance
         contacts = ActiveContacts(
             slave=active.slave,
@@ -366,6 +380,8 @@ class ContactModel:
             contacts=contacts,
             statistics=statistics,
             trial_history=trial_history,
+            contact_jacobian=None if per_contact is None else per_contact.positions,
+            contact_deformation_jacobian=None if per_contact is None else per_contact.deformation,
         )
 
     def _anchors(self, points, slave_points, deformation, active: _Selection) -> _Anchors:
@@ -493,8 +509,11 @@ class ContactModel:
 
     # -- linearization --------------------------------------------------------------------------
 
-    def _linearization(self, loads: ContactLoads, active: _Selection, anchors: _Anchors):
-        """Sparse d load / d positions and dense d load / d F from the 3x3 derivative blocks.
+    def _linearization(
+        self, loads: ContactLoads, active: _Selection, anchors: _Anchors
+    ) -> "_ContactDerivatives":
+        """Per-contact sparse d load / d positions and dense d load / d F from the 3x3
+        derivative blocks (rows c k + i for contact i).
 
         A load at slave point j depends on the control points a of its own span through
         x_s = sum_a N_a(tau_j) P_a, on those of the master span through x_m = sum_b N_b P_b + F L
@@ -525,26 +544,26 @@ class ContactModel:
         rows = np.empty(size, dtype=np.int64)
         columns = np.empty(size, dtype=np.int64)
         values = np.empty(size)
+        k = slave.size
         count = _kernels.block_entries(
             blocks,
-            slave.astype(np.int64),
-            layout.n_points,
+            np.arange(k, dtype=np.int64),
+            k,
             np.ascontiguousarray(first),
             np.ascontiguousarray(basis),
             rows,
             columns,
             values,
         )
-        shape = (3 * layout.n_points, 3 * layout.n_control_points)
+        shape = (3 * k, 3 * layout.n_control_points)
         jacobian = scipy.sparse.coo_matrix(
             (values[:count], (rows[:count], columns[:count])), shape=shape
         )
         # d load / d F_ab = (d load / d x_m)[:, a] L_b + (d load / d x_a)[:, a] L_a,b.
-        per_contact = np.einsum("iak,kb->kiab", blocks[MASTER][:, :2], shift[:, :2]) + np.einsum(
-            "iak,kb->kiab", blocks[ANCHOR][:, :2], anchors.shift[:, :2]
+        per_contact = np.einsum("iak,kb->ikab", blocks[MASTER][:, :2], shift[:, :2]) + np.einsum(
+            "iak,kb->ikab", blocks[ANCHOR][:, :2], anchors.shift[:, :2]
         )
-        deformation = _sum_per_point(slave, per_contact.reshape(-1, 12).T, layout.n_points)
-        return jacobian, deformation.reshape(3, 4, -1).transpose(0, 2, 1).reshape(-1, 4)
+        return _ContactDerivatives(jacobian, per_contact.reshape(3 * k, 4))
 
     # -- input checks ---------------------------------------------------------------------------
 
@@ -569,6 +588,29 @@ class ContactModel:
                 f"deformation_gradient must be a finite (3, 3) array, got {deformation.shape}"
             )
         return deformation
+
+
+class _ContactDerivatives(NamedTuple):
+    """Derivatives of the k contact loads: rows c k + i (component c of contact i)."""
+
+    positions: scipy.sparse.coo_matrix  # (3k, 3n)
+    deformation: np.ndarray  # (3k, 4)
+
+
+def _per_point(per_contact: _ContactDerivatives, slave: np.ndarray, n_points: int):
+    """The per-contact derivatives summed over the contacts of each collocation point:
+    (3m, 3n) COO with repeated entries and (3m, 4), rows c m + j."""
+    k = slave.size
+    rows = per_contact.positions.row
+    point_rows = (rows // max(k, 1)) * n_points + slave[rows % max(k, 1)]
+    jacobian = scipy.sparse.coo_matrix(
+        (per_contact.positions.data, (point_rows, per_contact.positions.col)),
+        shape=(3 * n_points, per_contact.positions.shape[1]),
+    )
+    deformation = _sum_per_point(
+        slave, per_contact.deformation.reshape(3, k, 4).transpose(0, 2, 1).reshape(12, k), n_points
+    )
+    return jacobian, deformation.reshape(3, 4, -1).transpose(0, 2, 1).reshape(-1, 4)
 
 
 def _sum_per_point(points: np.ndarray, values: np.ndarray, n_points: int) -> np.ndarray:

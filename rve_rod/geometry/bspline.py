@@ -8,6 +8,7 @@ Conventions: degree p, n control points, knot vector of length n + p + 1, open (
 unless stated. Control points have shape (n, dim). Parameters are 1D arrays of shape (m,).
 """
 
+import itertools
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -204,6 +205,13 @@ def insert_knot(
     return new_knots, new_points
 
 
+class SplitCurve(NamedTuple):
+    """The two pieces of a curve split at a parameter (`BSplineCurve.split`)."""
+
+    left: "BSplineCurve"
+    right: "BSplineCurve"
+
+
 @dataclass(frozen=True, eq=False)
 class BSplineCurve:
     """A B-spline curve C(u) = sum_i N_{i,p}(u) P_i.
@@ -284,6 +292,62 @@ class BSplineCurve:
         inner = (edges[:-1, None] + np.diff(edges)[:, None] * fractions[None, :]).ravel()
         return self.refine(inner)
 
+    def refined_to(self, n_control_points: int) -> "BSplineCurve":
+        """The same curve h-refined to `n_control_points` by inserting simple knots.
+
+        The new knots split every non-empty span into equal parts; the number of parts per
+        span is proportional to its parameter length (largest remainders, at least one), so
+        a uniform curve is refined uniformly (`subdivide`) whenever the count allows.
+        """
+        extra = check_integer("n_control_points", n_control_points, self.n_control_points)
+        extra -= self.n_control_points
+        edges = self.breakpoints()
+        lengths = np.diff(edges)
+        target = lengths.size + extra
+        ideal = target * lengths / lengths.sum()
+        parts = np.maximum(np.floor(ideal).astype(int), 1)
+        while parts.sum() > target:  # the minimum of one part overshot: take from the largest
+            parts[np.argmax(parts - ideal)] -= 1
+        order = np.argsort(-(ideal - parts), kind="stable")
+        parts[order[: target - parts.sum()]] += 1
+        inner = [
+            edges[i] + lengths[i] * np.arange(1, parts[i]) / parts[i] for i in range(lengths.size)
+        ]
+        return self.refine(np.concatenate(inner))
+
+    def split(self, parameter: float) -> "SplitCurve":
+        """The pieces left and right of an interior `parameter` (knot insertion up to
+        multiplicity p, A5.1); each keeps its part of the parameter domain, and together they
+        are the same curve."""
+        low, high = self.domain
+        u = float(parameter)
+        if not low < u < high:
+            raise InputError(
+                f"split parameter={u:.6g} is outside the open curve domain ({low:.6g}, {high:.6g})"
+            )
+        p = self.degree
+        curve = self
+        existing = knot_multiplicity(self.knots, u)
+        if existing < p:
+            curve = self.insert_knot(u, p - existing)
+        knots, points = curve.knots, curve.control_points
+        first = int(np.flatnonzero(np.abs(knots - u) <= 1e-14)[0])  # u occupies first..first+p-1
+        left = BSplineCurve(p, np.concatenate([knots[: first + p], [u]]), points[:first])
+        right = BSplineCurve(p, np.concatenate([[u], knots[first:]]), points[first - 1 :])
+        return SplitCurve(left, right)
+
+    def translated(self, offset) -> "BSplineCurve":
+        """The curve moved by `offset` (dim,) (mm), same parametrization."""
+        return BSplineCurve(
+            self.degree, self.knots, self.control_points + np.asarray(offset, dtype=float)
+        )
+
+    def reparametrized(self, start: float) -> "BSplineCurve":
+        """The same curve with its parameter domain shifted to begin at `start`."""
+        return BSplineCurve(
+            self.degree, self.knots - self.domain[0] + float(start), self.control_points
+        )
+
     def arc_length(self, points_per_span: int = 12) -> float:
         """Length of the curve over its domain by Gauss-Legendre quadrature per span (mm)."""
         return float(self.arc_length_function(points_per_span)[1][-1])
@@ -345,3 +409,61 @@ def interpolate(
             "interpolation system is singular (Schoenberg-Whitney condition violated)"
         ) from None
     return BSplineCurve(degree, knots, control_points)
+
+
+def join(curves, continuity: int, tolerance: float = 1e-9) -> BSplineCurve:
+    """One curve through consecutive curves of one degree, C^continuity at the joins.
+
+    Each curve's parameter domain is laid after the previous one's (domains keep their
+    lengths, the first keeps its start); the joins become interior knots of multiplicity
+    p - continuity. The result is exact (the curves must meet with equal derivatives up to
+    order `continuity`, in their own parametrizations): the curves are first concatenated
+    with C0 joins (knots of multiplicity p, control points shared at the joins), which
+    represents them exactly, and that curve is then interpolated at the Greville points of
+    the smoother knot vector, which contains it.
+
+    Raises InputError when a derivative of order <= continuity jumps at a join by more than
+    `tolerance` times its size (or the curves do not meet).
+    """
+    curves = list(curves)
+    if not curves:
+        raise InputError("join needs at least one curve")
+    p = curves[0].degree
+    if any(curve.degree != p for curve in curves):
+        raise InputError(f"join needs curves of one degree, got {[c.degree for c in curves]}")
+    continuity = check_integer("continuity", continuity, 0, p - 1)
+    pieces = [curves[0]]
+    for curve in curves[1:]:
+        pieces.append(curve.reparametrized(pieces[-1].domain[1]))
+    for k, (before, after) in enumerate(itertools.pairwise(pieces)):
+        at = before.domain[1]
+        left = before.derivatives(np.array([at]), continuity)[:, 0]
+        right = after.derivatives(np.array([at]), continuity)[:, 0]
+        for order in range(continuity + 1):
+            size = max(np.abs(left[order]).max(), np.abs(right[order]).max(), 1e-300)
+            jump = np.abs(left[order] - right[order]).max()
+            if order == 0:
+                size = max(size, np.abs(before.control_points).max())
+            if jump > tolerance * size:
+                raise InputError(
+                    f"curves {k} and {k + 1} differ in derivative {order} at their join by "
+                    f"{jump:.3g} (relative {jump / size:.3g} > tolerance {tolerance:g}); "
+                    f"they are not C{continuity}-continuous"
+                )
+    knots = [pieces[0].knots[:-1]]
+    points = [pieces[0].control_points]
+    for piece in pieces[1:]:
+        knots.append(piece.knots[p + 1 : -1])
+        points.append(piece.control_points[1:])
+    knots.append(pieces[-1].knots[-1:])
+    chained = BSplineCurve(p, np.concatenate(knots), np.concatenate(points))
+    if continuity == 0:
+        return chained
+    joins = np.array([piece.domain[0] for piece in pieces[1:]])
+    smooth = chained.knots
+    for value in joins:
+        position = int(np.flatnonzero(np.abs(smooth - value) <= 1e-14)[0])
+        smooth = np.delete(smooth, np.arange(position, position + continuity))
+    greville = greville_abscissae(smooth, p)
+    matrix = basis_matrix(smooth, p, greville).toarray()
+    return BSplineCurve(p, smooth, np.linalg.solve(matrix, chained(greville)))

@@ -9,7 +9,6 @@ where it stopped, and an unchanged run is never computed twice. Runs go to worke
 """
 
 import dataclasses
-import importlib
 import logging
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -34,39 +33,8 @@ from rve_rod.surface import ResponseSurface
 logger = logging.getLogger(__name__)
 
 
-ENGINE_MODULE = "rve_rod.rve"
-"""The module that provides the rod RVE engine as `surface_engine() -> run` (issue 4)."""
-
-
 class GenerationError(RuntimeError):
     """A batch of runs stopped (a worker died or a run failed); finished runs are cached."""
-
-
-class EngineUnavailableError(RuntimeError):
-    """No RVE engine is installed, so real surfaces cannot be generated."""
-
-
-def default_engine():
-    """The rod RVE engine: `rve_rod.rve.surface_engine()`, a picklable `run(case) -> RveRun`.
-
-    Raises EngineUnavailableError when that module or function does not exist (yet).
-    """
-    try:
-        module = importlib.import_module(ENGINE_MODULE)
-    except ModuleNotFoundError as error:
-        if error.name != ENGINE_MODULE:
-            raise
-        raise EngineUnavailableError(
-            f"no RVE engine is available ({ENGINE_MODULE} is not installed); from Python, "
-            "pass an engine to rve_rod.homogenize.generate.generate_surface(fabric, run=...)"
-        ) from None
-    factory = getattr(module, "surface_engine", None)
-    if factory is None:
-        raise EngineUnavailableError(
-            f"{ENGINE_MODULE} has no surface_engine(): it does not provide an RVE engine for "
-            "response surfaces yet"
-        )
-    return factory()
 
 
 class RunsResult(NamedTuple):

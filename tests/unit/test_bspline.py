@@ -11,6 +11,7 @@ from rve_rod.geometry.bspline import (
     basis_matrix,
     greville_abscissae,
     interpolate,
+    join,
     open_knot_vector,
 )
 
@@ -93,6 +94,71 @@ def test_subdivision_quarter_loop_sizes_and_invariance():
     params = np.linspace(0, 1, 500)
     np.testing.assert_allclose(refined(params), curve(params), atol=1e-12)
     np.testing.assert_allclose(refined(params, 2), curve(params, 2), atol=1e-9)
+
+
+@pytest.mark.parametrize("n", [12, 24, 36, 68, 136])
+def test_refinement_to_a_count_keeps_the_curve(n):
+    curve = random_curve(4, 12, nonuniform=False)
+    refined = curve.refined_to(n)
+    assert refined.n_control_points == n
+    assert set(curve.knots) <= set(refined.knots)
+    spans = np.diff(refined.breakpoints())
+    assert spans.max() / spans.min() <= 1.5 + 1e-12
+    params = np.linspace(0, 1, 500)
+    np.testing.assert_allclose(refined(params), curve(params), atol=1e-12)
+    np.testing.assert_allclose(refined(params, 2), curve(params, 2), atol=1e-8)
+    np.testing.assert_array_equal(curve.refined_to(68).knots, curve.subdivide(8).knots)
+
+
+@pytest.mark.parametrize("at", [0.37, 0.5])  # inside a span, and on a knot
+def test_split_gives_two_pieces_of_the_same_curve(at):
+    curve = random_curve(4, 10, nonuniform=False)
+    pieces = curve.split(at)
+    assert pieces.left.domain == (0.0, at) and pieces.right.domain == (at, 1.0)
+    for piece in pieces:
+        params = np.linspace(*piece.domain, 101)
+        for k in range(3):
+            np.testing.assert_allclose(piece(params, k), curve(params, k), atol=1e-9)
+    with pytest.raises(InputError, match="outside the open curve domain"):
+        curve.split(1.0)
+
+
+def test_join_is_exact_and_smooth_at_the_joins():
+    # a curve with simple knots (C3) cut into four pieces, joined again with C2 and C3 joins
+    curve = random_curve(4, 20, nonuniform=False).reparametrized(2.0)
+    pieces = []
+    rest = curve
+    for at in (2.25, 2.5, 2.75):
+        split = rest.split(at)
+        pieces.append(split.left.reparametrized(0.0))  # each piece on its own domain
+        rest = split.right
+    pieces.append(rest.reparametrized(0.0))
+    params = np.linspace(2.0, 3.0, 777)
+    for continuity, multiplicity in ((2, 2), (3, 1)):
+        joined = join(pieces, continuity)
+        assert joined.domain == (0.0, 1.0)
+        assert joined.n_control_points == 20 + 3 * (multiplicity - 1)
+        for value in (0.25, 0.5, 0.75):
+            assert np.count_nonzero(np.abs(joined.knots - value) < 1e-14) == multiplicity
+        for k in range(3):
+            np.testing.assert_allclose(joined(params - 2.0, k), curve(params, k), atol=1e-9)
+    np.testing.assert_allclose(join(pieces, 3).control_points, curve.control_points, atol=1e-12)
+
+
+def test_join_refuses_curves_that_are_not_smooth_enough():
+    curve = random_curve(4, 12)
+    split = curve.split(0.4)
+    moved = split.right.translated([0.0, 0.0, 1e-4])
+    with pytest.raises(InputError, match="derivative 0"):
+        join([split.left, moved], 0)
+    kinked = curve.insert_knot(0.4, 4)  # C0 at 0.4: bending a control point kinks it
+    bent = kinked.control_points.copy()
+    position = int(np.flatnonzero(np.abs(kinked.knots - 0.4) < 1e-14)[0])
+    bent[position - 2] += 0.1
+    pieces = BSplineCurve(4, kinked.knots, bent).split(0.4)
+    join(pieces, 0)
+    with pytest.raises(InputError, match="derivative 1"):
+        join(pieces, 1)
 
 
 def test_insertion_beyond_degree_is_refused():

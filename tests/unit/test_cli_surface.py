@@ -5,34 +5,17 @@ import subprocess
 import sys
 from pathlib import Path
 
-import pytest
-
 import rve_rod.cli.surface as cli_surface
 from rve_rod.cli import main
 from rve_rod.homogenize.analytic import AnalyticRve
-from rve_rod.homogenize.generate import EngineUnavailableError, default_engine
 from rve_rod.surface import read_surface
 
 RVE_ROD = str(Path(sys.executable).parent / "rve-rod")
 ARGS = ["surface", "--preset", "cotton-20s2", "--stitch", "5.5", "--rays", "8", "--steps", "5"]
 
 
-def test_without_an_engine_surface_says_so_and_writes_nothing(tmp_path, monkeypatch, capsys):
-    monkeypatch.setitem(sys.modules, "rve_rod.rve", None)  # as before issue 4 lands
-    with pytest.raises(EngineUnavailableError, match="no RVE engine is available"):
-        default_engine()
-    output = tmp_path / "surface.h5"
-    assert main([*ARGS, "-o", str(output)]) == 1
-    error = capsys.readouterr().err
-    assert (
-        error.startswith("rve-rod surface: cannot generate: no RVE engine")
-        and error.count("\n") == 1
-    )
-    assert list(tmp_path.iterdir()) == []
-
-
 def test_surface_with_an_engine_writes_file_plot_and_reports(tmp_path, monkeypatch, capsys):
-    monkeypatch.setattr(cli_surface, "default_engine", AnalyticRve)
+    monkeypatch.setattr(cli_surface, "surface_engine", AnalyticRve)
     output, plot = tmp_path / "surface.h5", tmp_path / "surfaces.png"
     arguments = [*ARGS, "-o", str(output), "--energy", "--jobs", "2", "--plot", str(plot)]
     assert main([*arguments, "--cache-dir", str(tmp_path / "cache")]) == 0
@@ -49,7 +32,7 @@ def test_surface_with_an_engine_writes_file_plot_and_reports(tmp_path, monkeypat
 
 
 def test_surface_info_text_and_json(tmp_path, monkeypatch, capsys):
-    monkeypatch.setattr(cli_surface, "default_engine", AnalyticRve)
+    monkeypatch.setattr(cli_surface, "surface_engine", AnalyticRve)
     output = tmp_path / "surface.h5"
     main([*ARGS, "-o", str(output), "--cache-dir", str(tmp_path / "cache")])
     capsys.readouterr()

@@ -118,3 +118,59 @@ def test_knit_cell_tangent_with_images_under_shear(friction, state):
     fd_positions, fd_deformation = finite_difference_jacobians(model, positions, deformation)
     assert_relative(result.jacobian.toarray(), fd_positions)
     assert_relative(result.deformation_jacobian, fd_deformation)
+
+
+def test_per_contact_derivatives_sum_to_the_line_load_ones_and_match_differences():
+    """The per-contact loads (what the macro stress weights by lattice image) have their own
+    derivatives: they sum to the per-point ones, and a weighted sum of them matches central
+    differences of the same weighted sum (contacts keep their order under tiny steps)."""
+    scene = knit_like_loop(n_control_points=12)
+    law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=0.17)
+    friction = CoulombFriction(coefficient=0.05, tangential_stiffness=30.0)
+    model = ContactModel(
+        scene.patches, scene.positions, law, friction=friction, lattice=scene.lattice
+    )
+    deformation = np.array([[1.03, 0.04, 0.0], [0.02, 0.985, 0.0], [0.0, 0.0, 1.0]])
+    positions = scene.positions + 0.004 * np.random.default_rng(5).normal(
+        size=scene.positions.shape
+    )
+    result = model.evaluate(positions, deformation)
+    contacts = result.contacts
+    k, m = contacts.slave.size, model.n_collocation_points
+    summed = np.zeros((3 * m, 3 * k))  # contact rows c k + i -> point rows c m + slave
+    for c in range(3):
+        summed[c * m + contacts.slave, c * k + np.arange(k)] = 1.0
+    assert_relative(summed @ result.contact_jacobian.toarray(), result.jacobian.toarray(), 1e-12)
+    assert_relative(
+        summed @ result.contact_deformation_jacobian, result.deformation_jacobian, 1e-12
+    )
+    per_point = np.stack([np.bincount(contacts.slave, contacts.load[c], m) for c in range(3)])
+    np.testing.assert_allclose(per_point, result.line_load, rtol=0, atol=1e-14)
+    # weights: each contact's lattice image row j and column i (as the virial uses them)
+    weights = np.concatenate([contacts.image[:, 1] + 0.5, contacts.image[:, 0] - 0.25, np.ones(k)])
+
+    def weighted(points, F):
+        other = model.evaluate(points, F, tangent=False).contacts
+        assert np.array_equal(other.slave, contacts.slave)
+        assert np.array_equal(other.image, contacts.image)
+        return weights @ other.load.ravel()
+
+    flat = positions.ravel()
+    gradient = np.empty(flat.size)
+    for i in range(flat.size):
+        plus, minus = flat.copy(), flat.copy()
+        plus[i] += STEP
+        minus[i] -= STEP
+        gradient[i] = weighted(plus.reshape(-1, 3), deformation) - weighted(
+            minus.reshape(-1, 3), deformation
+        )
+    assert_relative(weights @ result.contact_jacobian.toarray(), gradient / (2 * STEP))
+    by_deformation = []
+    for a, b in ((0, 0), (0, 1), (1, 0), (1, 1)):
+        plus, minus = deformation.copy(), deformation.copy()
+        plus[a, b] += STEP
+        minus[a, b] -= STEP
+        by_deformation.append(weighted(positions, plus) - weighted(positions, minus))
+    assert_relative(
+        weights @ result.contact_deformation_jacobian, np.array(by_deformation) / (2 * STEP)
+    )

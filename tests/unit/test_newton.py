@@ -127,3 +127,33 @@ def test_singular_jacobian_is_reported_not_raised():
     assert not result.converged
     assert result.reason == "singular"
     assert result.iterations == 0
+
+
+def test_line_search_breaks_a_newton_cycle():
+    # x^3 - 2x + 2 = 0 from x = 0: plain Newton cycles 0 -> 1 -> 0 forever (textbook case);
+    # halving steps that do not lower |R| reaches the real root.
+    def evaluate(u, t):
+        residual = np.array([u[0] ** 3 - 2 * u[0] + 2 * t])
+        return residual, scipy.sparse.csr_matrix([[3 * u[0] ** 2 - 2]])
+
+    problem = NonlinearProblem(evaluate)
+    plain = newton_solve(problem, np.zeros(1), 1.0)
+    assert not plain.converged
+    np.testing.assert_allclose(plain.residual_norms[-4:], [2, 1, 2, 1])
+    searched = newton_solve(problem, np.zeros(1), 1.0, NewtonOptions(line_search=8))
+    assert searched.converged
+    root = np.roots([1, 0, -2, 2])
+    assert searched.state[0] == pytest.approx(root[np.abs(root.imag) < 1e-12].real[0], abs=1e-12)
+    assert min(convergence_orders(searched.residual_norms)) > 1.8  # still Newton at the end
+
+
+@pytest.mark.parametrize("ordering", ["COLAMD", "NATURAL", "MMD_ATA", "MMD_AT_PLUS_A"])
+def test_every_lu_ordering_gives_the_same_newton_path(ordering):
+    reference = newton_solve(cubic_problem(), np.array([3.0, 4.0]), 1.0)
+    result = newton_solve(
+        cubic_problem(), np.array([3.0, 4.0]), 1.0, NewtonOptions(ordering=ordering)
+    )
+    assert result.iterations == reference.iterations
+    np.testing.assert_allclose(result.residual_norms, reference.residual_norms, rtol=1e-10)
+    with pytest.raises(InputError, match="ordering='AMD' is unknown"):
+        NewtonOptions(ordering="AMD")

@@ -1,0 +1,133 @@
+"""`rve-rod simulate`: one load case on the knit-loop RVE (strain-force curve, Poisson ratio).
+
+Progress goes to stderr, one line per converged state. A run that cannot reach the end of its
+load path still writes its JSON, plot and VTK files for the converged states, then exits with
+status 3 (the error line names where it stopped).
+"""
+
+import argparse
+import sys
+
+from rve_rod.cli.common import add_fabric_arguments, fabric_from_args, print_json
+from rve_rod.errors import ConvergenceError
+from rve_rod.rve.cell import CellSettings
+from rve_rod.rve.load_cases import CASES, load_case
+from rve_rod.rve.simulation import (
+    RveResult,
+    RveSettings,
+    RveStep,
+    simulate,
+)
+from rve_rod.rve.yarn import YarnSettings
+
+
+def register(subparsers) -> None:
+    """Add the `simulate` subcommand."""
+    parser = subparsers.add_parser(
+        "simulate",
+        help="run a load case on the knit-loop RVE",
+        description="Load one periodic single-jersey loop (Cosserat rods, frictional contact "
+        "with its periodic neighbours) along a macro load case and report the strain-force "
+        "curve, lateral strain and Poisson ratio (docs/rve.md).",
+    )
+    add_fabric_arguments(parser)
+    parser.add_argument("--case", choices=list(CASES), default="uniaxial-course", help="load case")
+    parser.add_argument(
+        "--max-strain",
+        type=float,
+        default=None,
+        help="final engineering strain (ray length for biaxial, g for shear; default 0.2, "
+        "shear 0.3; negative: compression)",
+    )
+    parser.add_argument("--angle", type=float, default=0.0, help="ray angle (deg) of biaxial")
+    parser.add_argument(
+        "--steps", type=int, default=21, help="output states including zero (default 21)"
+    )
+    parser.add_argument(
+        "--control-points",
+        type=int,
+        default=CellSettings().control_points,
+        help="control points per quarter loop (default 68)",
+    )
+    parser.add_argument(
+        "--second-moment",
+        choices=("solid", "paper"),
+        default="solid",
+        help="I = pi r^4/4 (solid) or the paper's pi r^4/12",
+    )
+    parser.add_argument("--frictionless", action="store_true", help="switch friction off")
+    parser.add_argument("--json", action="store_true", help="print one JSON object to stdout")
+    parser.add_argument("--plot", help="PNG of the strain-force curve")
+    parser.add_argument("--vtk", help="folder for the deformed yarns (one .vtu per state)")
+    parser.set_defaults(run=run_simulate)
+
+
+def run_simulate(args: argparse.Namespace) -> int:
+    fabric = fabric_from_args(args)
+    strain = args.max_strain
+    case = load_case(args.case, strain, args.steps, args.angle)
+    settings = RveSettings(
+        cell=CellSettings(control_points=args.control_points),
+        yarn=YarnSettings(second_moment=args.second_moment, friction=not args.frictionless),
+    )
+    try:
+        result = simulate(fabric, case, settings, on_step=_progress)
+    except ConvergenceError as error:
+        if isinstance(error.history, RveResult):
+            _write(error.history, args)
+        raise
+    _write(result, args)
+    return 0
+
+
+def _progress(step: RveStep) -> None:
+    print(
+        f"  strain {100 * step.strain:7.3f} %  force {step.force_gf_per_cm:10.4g} gf/cm  "
+        f"{step.newton_iterations:3d} iterations  {step.active_contacts:4d} contacts  "
+        f"{step.wall_time_s:6.2f} s",
+        file=sys.stderr,
+        flush=True,
+    )
+
+
+def _write(result: RveResult, args: argparse.Namespace) -> None:
+    """The JSON (or the report), plot and VTK files of a (possibly partial) result."""
+    written = []
+    if args.plot:
+        from rve_rod.rve.plot import plot_curve  # noqa: PLC0415 (matplotlib on demand)
+
+        written.append(str(plot_curve(result, args.plot)))
+    if args.vtk:
+        from rve_rod.rve.output import write_vtk  # noqa: PLC0415
+
+        written.extend(str(path) for path in write_vtk(result, args.vtk))
+    if args.json:
+        payload = result.to_dict()
+        payload["files"] = written
+        print_json(payload)
+        return
+    _report(result)
+    for path in written:
+        print(f"wrote {path}")
+
+
+def _report(result: RveResult) -> None:
+    yarn = result.yarn
+    adjusted = f" (adjusted from r0 = {yarn.minimal_radius:.4g})" if yarn.adjusted else ""
+    print(
+        f"{result.case.name}: yarn radius {yarn.radius:.4g} mm{adjusted}, contact exponent "
+        f"{yarn.law.exponent:.3g}, {result.curve.n_control_points} control points"
+    )
+    print(f"  {'strain %':>9}{'force gf/cm':>13}{'force N':>11}{'lateral %':>11}{'iter':>6}")
+    for step in result.steps:
+        lateral = "" if step.lateral_strain is None else f"{100 * step.lateral_strain:.3f}"
+        print(
+            f"  {100 * step.strain:9.3f}{step.force_gf_per_cm:13.5g}{step.force_n:11.4g}"
+            f"{lateral:>11}{step.newton_iterations:6d}"
+        )
+    if result.poisson_ratio is not None:
+        print(f"  Poisson ratio {result.poisson_ratio:.4g} at the last state")
+    print(
+        f"  {result.newton_iterations} Newton iterations, {result.wall_time_s:.2f} s"
+        + ("" if result.complete else f"; stopped early: {result.message}")
+    )

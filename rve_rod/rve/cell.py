@@ -1,0 +1,223 @@
+"""The periodic loop cell: one yarn period as a single rod patch, with its images.
+
+The loop geometry comes as the 4 C2-continuous quarter curves of one loop (`rve_rod.geometry`).
+They are refined to the requested number of control points per curve, joined into ONE
+degree-p B-spline with interior knots of multiplicity p - 2 at the joins (exact: the curves
+are C2 there), and cut where the yarn touches nothing: the rod engine ignores line loads at a
+patch's end points (their rows hold the end conditions), so the only patch end, the periodic
+cut, must lie away from all contacts. The cut position is a parameter (in quarter curves along
+the loop); the curve beyond the end of the loop continues as the start of the next loop,
+translated by a1, so any cut gives the same yarn.
+
+Conditions of the rod model:
+
+* periodicity (a `Joint` from END to START): x(start) = x(end) - F a1, equal rotations, equal
+  internal force and moment;
+* a `PointSupport` in the middle of the patch holding its position and its rotation about the
+  period axis: the rigid modes of a yarn with one period vector (the support reaction is
+  zero up to discretization error and the two-pass contact imbalance; it is reported);
+* `MacroBalance`: zero macro stress conjugate to each free component of F.
+
+Extra unknowns: the free components of F (as F - I), then the 4 support multipliers.
+"""
+
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import numpy as np
+
+from rve_rod.contact import ContactModel, ContactOptions, Patch, PeriodicLattice
+from rve_rod.errors import InputError, check_integer, check_range
+from rve_rod.geometry.bspline import BSplineCurve, join
+from rve_rod.newton import NonlinearProblem
+from rve_rod.presets import Knit
+from rve_rod.rod import END, START, Joint, Offset, PointSupport, RodEnd, RodModel, RodPatch
+from rve_rod.rod.layout import DOFS_PER_POINT
+from rve_rod.rve.coupling import ContactCoupling
+from rve_rod.rve.load_cases import LoadCase
+from rve_rod.rve.macro import MacroBalance, MacroDeformation, StressParts, macro_stress
+from rve_rod.rve.yarn import YarnModel
+
+QUARTERS = 4
+"""Curves per loop."""
+
+SUPPORT_UNKNOWNS = 4
+"""Multipliers of the point support: reaction force (3) and moment about the period axis."""
+
+
+@dataclass(frozen=True)
+class CellSettings:
+    """Discretization and modelling choices of the cell.
+
+    Attributes:
+        control_points: control points per quarter curve after refinement (default 68, the
+            paper's; at least the geometry's own count).
+        cut: where the periodic cut sits, in quarter curves from the start of the loop, in
+            [0, 4) (default 1.0: the leg point at the loop's mid-height, outside the band
+            where courses overlap, so the loop touches nothing there; docs/rve.md).
+        lateral_stiffness: kappa of `MacroBalance` relative to EA / c (default 1e-6).
+        contact: contact search settings.
+    """
+
+    control_points: int = 68
+    cut: float = 1.0
+    lateral_stiffness: float = 1e-6
+    contact: ContactOptions = field(default_factory=ContactOptions)
+
+    def __post_init__(self):
+        check_integer("control_points", self.control_points, 5, 100_000)
+        check_range("cut", self.cut, 0.0, QUARTERS - 1e-9)
+        check_range("lateral_stiffness", self.lateral_stiffness, 0.0, 1.0)
+
+
+def periodic_patch(
+    curves: list[BSplineCurve], period: np.ndarray, cut: float, control_points: int
+) -> BSplineCurve:
+    """One period of the yarn as one B-spline on the parameter domain [0, 4].
+
+    Args:
+        curves: the 4 quarter curves of the loop in order along the yarn (C2 at the joins and,
+            with the next loop, across the end: curve 3 ends at curve 0's start + period).
+        period: (3,) a1 = (w, 0, 0) (mm).
+        cut: start of the period in quarter curves, in [0, 4).
+        control_points: control points per quarter after refinement.
+    """
+    if len(curves) != QUARTERS:
+        raise InputError(f"a loop has {QUARTERS} quarter curves, got {len(curves)}")
+    own = max(curve.n_control_points for curve in curves)
+    if control_points < own:
+        raise InputError(
+            f"control_points={control_points} is below the geometry's own {own} per curve"
+        )
+    quarters = []
+    for curve in curves:
+        low, high = curve.domain
+        scaled = BSplineCurve(
+            curve.degree, (curve.knots - low) / (high - low), curve.control_points
+        )
+        quarters.append(scaled.refined_to(control_points))
+    loop = join(quarters, continuity=2)
+    gap = np.abs(loop(np.array([QUARTERS]))[0] - loop(np.array([0.0]))[0] - period).max()
+    if gap > 1e-9 * np.abs(loop.control_points).max():
+        raise InputError(
+            f"the loop does not end at its start + a1 (gap {gap:.3g} mm): not a periodic loop"
+        )
+    if cut == 0.0:
+        return loop
+    pieces = loop.split(float(cut))
+    return join([pieces.right, pieces.left.translated(period)], continuity=2).reparametrized(0.0)
+
+
+class CellState(NamedTuple):
+    """Derived quantities of one state of the cell.
+
+    Attributes:
+        deformation: (2, 2) macro F.
+        stress: the macro stress and its parts.
+        cut_force: (3,) internal force at the cut n(END) (N).
+        support_reaction: (4,) support force (3, N) and moment about the period axis (N mm).
+        regularization: (2, 2) kappa H on the free components (N/mm), zero elsewhere.
+    """
+
+    deformation: np.ndarray
+    stress: StressParts
+    cut_force: np.ndarray
+    support_reaction: np.ndarray
+    regularization: np.ndarray
+
+
+class LoopCell:
+    """The rod model of one periodic loop under a load case (module docstring).
+
+    Args:
+        curves: the 4 quarter curves of the loop (mm), built with the yarn radius r.
+        knit: the wale width w (period along x) and course height c (spacing along y), mm.
+        yarn: section stiffness and contact laws.
+        case: the load case (which components of F are free).
+        settings: discretization and modelling choices.
+
+    Attributes:
+        curve: the periodic patch's reference centreline.
+        model: the RodModel; coupling: the ContactCoupling; macro: the MacroDeformation.
+    """
+
+    def __init__(
+        self,
+        curves: list[BSplineCurve],
+        knit: Knit,
+        yarn: YarnModel,
+        case: LoadCase,
+        settings: CellSettings = CellSettings(),
+    ):
+        self.case = case
+        self.settings = settings
+        self.yarn = yarn
+        lattice = PeriodicLattice.rectangular(knit.wale_width, knit.course_height)
+        period = lattice.vectors[0]
+        self.curve = periodic_patch(curves, period, settings.cut, settings.control_points)
+        n = self.curve.n_control_points
+        free = len(case.free)
+        offset = DOFS_PER_POINT * n
+        self.macro = MacroDeformation(case, offset + np.arange(free))
+        contact = ContactModel(
+            [Patch(self.curve.degree, self.curve.knots)],
+            self.curve.control_points,
+            yarn.law,
+            friction=yarn.friction,
+            lattice=lattice,
+            options=settings.contact,
+        )
+        self.coupling = ContactCoupling(contact, self.macro, n)
+        self._period = period
+        self._cut = RodEnd(0, END)
+        self._support_columns = offset + free + np.arange(SUPPORT_UNKNOWNS)
+        self._regularization = settings.lateral_stiffness * yarn.section.axial / knit.course_height
+        conditions = [
+            Joint(self._cut, RodEnd(0, START), offset=self._offset),
+            PointSupport(0, 0.5 * QUARTERS, first_unknown=free, rotation_axes=(period,)),
+        ]
+        if free:
+            positions = (DOFS_PER_POINT * np.arange(n)[:, None] + np.arange(3)).ravel()
+            conditions.append(
+                MacroBalance(self.macro, self.coupling, self._cut, positions, self._regularization)
+            )
+        patches = RodPatch.chain([self.curve], yarn.section)
+        self.model = RodModel(
+            patches,
+            conditions,
+            loads=[self.coupling],
+            extra_unknowns=free + SUPPORT_UNKNOWNS,
+            extra_state_scale=np.r_[np.full(free, 0.1), np.ones(SUPPORT_UNKNOWNS)],
+        )
+
+    def _offset(self, state: np.ndarray, load_factor: float) -> Offset:
+        """x(START) - x(END) = -F a1 and its derivative w.r.t. the free components."""
+        F = self.macro.matrix(state, load_factor)
+        derivative = -np.einsum("abk,b->ak", self.macro.derivative(), self._period)
+        return Offset(-F @ self._period, self.macro.columns, derivative)
+
+    def problem(self) -> NonlinearProblem:
+        """The cell as a NonlinearProblem; its commit adopts the friction anchors."""
+        return self.model.problem(commit=self.coupling.commit)
+
+    def reference_state(self) -> np.ndarray:
+        return self.model.reference_state()
+
+    def positions(self, state: np.ndarray) -> np.ndarray:
+        """Control-point positions (n, 3) of the patch (mm)."""
+        return self.coupling.positions(state)
+
+    def evaluate_state(self, state: np.ndarray, load_factor: float) -> CellState:
+        """Macro F, P (with its parts), cut force and support reaction of a state."""
+        end = self.model.end_values(state, self._cut)
+        stress = macro_stress(self.coupling, end.force, state, load_factor)
+        regularization = np.zeros((2, 2))
+        for (a, b), column in zip(self.case.free, self.macro.columns, strict=True):
+            regularization[a, b] = self._regularization * state[column]
+        return CellState(
+            deformation=self.macro.matrix(state, load_factor)[:2, :2],
+            stress=stress,
+            cut_force=end.force,
+            support_reaction=np.array(state[self._support_columns]),
+            regularization=regularization,
+        )

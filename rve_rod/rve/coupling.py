@@ -1,0 +1,100 @@
+"""The contact of the loop cell with itself and its images as a state-dependent load on the rod.
+
+`ContactCoupling` is the rod's `StateDependentLoad`: it evaluates `rve_rod.contact` at the
+control-point positions of a state and the macro F of that state, and returns the line loads
+with their derivatives with respect to the state (positions and the free macro components).
+It keeps the last evaluation, so the macro stress, which needs the same contacts one by one,
+and the friction commit after a converged step reuse it instead of searching again.
+"""
+
+import logging
+from typing import NamedTuple
+
+import numpy as np
+import scipy.sparse
+
+from rve_rod.contact import ContactModel, ContactResult
+from rve_rod.rod import LineLoads
+from rve_rod.rod.layout import DOFS_PER_POINT
+from rve_rod.rve.macro import MacroDeformation
+
+logger = logging.getLogger(__name__)
+
+
+class _Cached(NamedTuple):
+    state: np.ndarray
+    load_factor: float
+    tangent: bool
+    result: ContactResult
+
+
+class ContactCoupling:
+    """Contact line loads on a one-patch rod whose images sit at x + F L.
+
+    Args:
+        contact: the contact model of the cell's yarn (one patch, periodic lattice).
+        macro: the macro deformation (prescribed and unknown components of F).
+        n_control_points: control points of the rod (= collocation points).
+
+    Attributes:
+        contact, macro: as given.
+        weights: (n,) collocation weights (mm) of the contact layout.
+        lattice: (2, 3) reference lattice vectors a1, a2 (mm).
+        area: reference cell area w c (mm^2).
+        end_points: (2,) the collocation points at the cut (where the rod ignores line loads).
+    """
+
+    def __init__(self, contact: ContactModel, macro: MacroDeformation, n_control_points: int):
+        self.contact = contact
+        self.macro = macro
+        self.weights = contact.collocation_weights
+        self.lattice = contact.lattice.vectors
+        self.area = float(abs(np.linalg.det(self.lattice[:, :2])))
+        self.end_points = np.array([0, n_control_points - 1])
+        self._n = int(n_control_points)
+        self._cached: _Cached | None = None
+
+    def positions(self, state: np.ndarray) -> np.ndarray:
+        """Control-point positions (n, 3) of a state (mm)."""
+        return state[: DOFS_PER_POINT * self._n].reshape(self._n, DOFS_PER_POINT)[:, :3]
+
+    def result(self, state: np.ndarray, load_factor: float, tangent: bool = True) -> ContactResult:
+        """The contact evaluation at `state` and t (cached: one search per state)."""
+        cached = self._cached
+        if (
+            cached is not None
+            and cached.load_factor == load_factor
+            and (cached.tangent or not tangent)
+            and np.array_equal(cached.state, state)
+        ):
+            return cached.result
+        F = self.macro.matrix(state, load_factor)
+        result = self.contact.evaluate(self.positions(state), F, tangent=tangent)
+        self._cached = _Cached(np.array(state, copy=True), load_factor, tangent, result)
+        return result
+
+    def commit(self, state: np.ndarray, load_factor: float) -> None:
+        """Adopt the friction anchors of a converged state (after each converged step).
+
+        The cached evaluation is dropped: it was made with the previous anchors.
+        """
+        self.contact.commit(self.result(state, load_factor, tangent=False))
+        self._cached = None
+
+    def __call__(self, model, state: np.ndarray, load_factor: float) -> LineLoads:
+        result = self.result(state, load_factor)
+        jacobian = result.jacobian
+        n_rows = jacobian.shape[0]
+        # contact column 3i + c is position c of control point i, state index 7i + c
+        columns = DOFS_PER_POINT * (jacobian.col // 3) + jacobian.col % 3
+        rows, values = jacobian.row, jacobian.data
+        free = self.macro.columns
+        if free.size:
+            by_macro = result.deformation_jacobian[:, self.macro.contact_components()]  # (3m, f)
+            rows = np.concatenate([rows, np.repeat(np.arange(n_rows), free.size)])
+            columns = np.concatenate([columns, np.tile(free, n_rows)])
+            values = np.concatenate([values, by_macro.ravel()])
+        force_jacobian = scipy.sparse.csr_matrix(
+            (values, (rows, columns)), shape=(n_rows, model.n_dofs)
+        )
+        return LineLoads(result.line_load, None, force_jacobian, None)

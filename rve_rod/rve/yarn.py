@@ -1,0 +1,117 @@
+"""The paper's yarn model of a knit: adjusted radius, section stiffness and contact laws.
+
+From yarn (r0, E0, nu, mu) and knit (w) as design.md states it (Weeger et al.):
+
+* adjusted radius r = min(r0, w/8): the loop is built, and the rods are sectioned, with r;
+* translational stiffness A with E_A = E0, rotational stiffness C with E_C = 0.5 E0, from the
+  section of radius r; A scaled by (r0/r)^4 and C by (r0/r)^6 (radius compensation (r0/r)^2
+  and (r0/r)^4, knitting pre-tension (r0/r)^2 on both);
+* second moment of area I = pi r^4/4 (solid circle, default) or the paper's pi r^4/12;
+* contact: compressible-yarn penalty law k = 0.01 E0 (r0/r)^8, p = 3 - (r0/r)^3 on the
+  penetration g = 2r - d (`rve_rod.contact.CompressibleYarnLaw`), Coulomb friction mu.
+"""
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+from rve_rod.contact import CompressibleYarnLaw, CoulombFriction
+from rve_rod.contact.law import DEFAULT_STIFFNESS_FACTOR
+from rve_rod.errors import InputError, check_positive
+from rve_rod.presets import Fabric
+from rve_rod.rod import PAPER_CIRCLE, SOLID_CIRCLE, SectionStiffness
+
+RADIUS_PER_WALE_WIDTH = 1.0 / 8.0
+"""r <= w/8: the largest radius a loop of wale width w holds (four yarn diameters per wale)."""
+
+
+@dataclass(frozen=True)
+class YarnSettings:
+    """Choices of the yarn model that are not fabric data.
+
+    Attributes:
+        second_moment: "solid" (I = pi r^4/4, default) or "paper" (I = pi r^4/12).
+        rotational_modulus_factor: E_C / E0 (default 0.5).
+        contact_stiffness_factor: the 0.01 in k = 0.01 E0 (r0/r)^8.
+        friction: apply Coulomb friction with the yarn's coefficient (default True); False
+            makes the scene frictionless (no slip history at all).
+        friction_stiffness_ratio: tangential penalty k_t / k (default 1).
+    """
+
+    second_moment: str = SOLID_CIRCLE
+    rotational_modulus_factor: float = 0.5
+    contact_stiffness_factor: float = DEFAULT_STIFFNESS_FACTOR
+    friction: bool = True
+    friction_stiffness_ratio: float = 1.0
+
+    def __post_init__(self):
+        if self.second_moment not in (SOLID_CIRCLE, PAPER_CIRCLE):
+            raise InputError(
+                f"second_moment={self.second_moment!r} is unknown; valid: "
+                f"{SOLID_CIRCLE!r}, {PAPER_CIRCLE!r}"
+            )
+        check_positive("rotational_modulus_factor", self.rotational_modulus_factor)
+        check_positive("contact_stiffness_factor", self.contact_stiffness_factor)
+        check_positive("friction_stiffness_ratio", self.friction_stiffness_ratio)
+
+
+class YarnModel(NamedTuple):
+    """The yarn of one fabric as the RVE models it.
+
+    Attributes:
+        radius: r = min(r0, w/8) (mm).
+        minimal_radius: r0 (mm).
+        adjusted: True when r < r0 (the knit is tighter than the yarn).
+        section: the scaled section stiffness of the rods.
+        law: the normal contact law.
+        friction: Coulomb friction, or None (frictionless scene).
+    """
+
+    radius: float
+    minimal_radius: float
+    adjusted: bool
+    section: SectionStiffness
+    law: CompressibleYarnLaw
+    friction: CoulombFriction | None
+
+
+def adjusted_radius(minimal_radius: float, wale_width: float) -> float:
+    """r = min(r0, w/8) (mm)."""
+    return min(float(minimal_radius), RADIUS_PER_WALE_WIDTH * float(wale_width))
+
+
+def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnModel:
+    """The rods' section stiffness and the contact laws of `fabric` (module docstring).
+
+    Raises InputError (from the contact law) when r0/r is so large that the contact exponent
+    p = 3 - (r0/r)^3 falls below 1 (docs/rve.md, "exponent limit").
+    """
+    yarn = fabric.yarn
+    r0 = yarn.minimal_radius
+    r = adjusted_radius(r0, fabric.knit.wale_width)
+    ratio = r0 / r
+    law = CompressibleYarnLaw.from_yarn(
+        minimal_radius=r0,
+        yarn_radius=r,
+        youngs_modulus=yarn.youngs_modulus,
+        stiffness_factor=settings.contact_stiffness_factor,
+    )
+    section = SectionStiffness.circular(
+        r,
+        yarn.youngs_modulus,
+        rotational_modulus=settings.rotational_modulus_factor * yarn.youngs_modulus,
+        poissons_ratio=yarn.poissons_ratio,
+        second_moment=settings.second_moment,
+    ).scaled(translational=ratio**4, rotational=ratio**6)
+    friction = None
+    if settings.friction and yarn.friction_coefficient > 0.0:
+        friction = CoulombFriction.for_law(
+            law, yarn.friction_coefficient, settings.friction_stiffness_ratio
+        )
+    return YarnModel(
+        radius=r,
+        minimal_radius=r0,
+        adjusted=r < r0,
+        section=section,
+        law=law,
+        friction=friction,
+    )

@@ -1,0 +1,81 @@
+"""`rve-rod simulate`: JSON, report, plot and VTK files, partial runs (exit 3), bad input (exit 2),
+at a coarse resolution."""
+
+import json
+
+import meshio
+import numpy as np
+import pytest
+
+import rve_rod.cli.simulate as cli_simulate
+import rve_rod.rve.simulation as rve_simulation
+from rve_rod.cli import main
+from rve_rod.newton import NewtonOptions, SteppingOptions
+
+ARGS = ["simulate", "--wale-width", "1.33", "--course-height", "1.26", "--yarn-radius", "0.16"]
+ARGS += ["--youngs-modulus", "80", "--control-points", "12", "--steps", "5"]
+
+
+def test_json_is_the_only_stdout_and_progress_goes_to_stderr(tmp_path, capsys):
+    plot, vtk = tmp_path / "curve.png", tmp_path / "vtk"
+    assert main([*ARGS, "--json", "--frictionless", "--plot", str(plot), "--vtk", str(vtk)]) == 0
+    captured = capsys.readouterr()
+    data = json.loads(captured.out)
+    for key in ("strain", "force_gf_per_cm", "lateral_strain", "newton_iterations"):
+        assert len(data[key]) == 5
+    assert data["poisson_ratio"] == pytest.approx(-data["lateral_strain"][-1] / 0.2)
+    assert data["wall_time_s"] > 0 and data["case"] == "uniaxial-course"
+    assert captured.err.count("strain") == 5  # one progress line per state
+    assert plot.stat().st_size > 10_000
+    files = sorted(vtk.iterdir())
+    assert [f.name for f in files] == [f"state_{k:03d}.vtu" for k in range(5)]
+    assert data["files"] == [str(plot), *map(str, files)]
+    mesh = meshio.read(files[-1])
+    assert mesh.point_data["radius"][0] == pytest.approx(0.16)
+    # 9 yarn pieces (cell and neighbours); the cell's one spans F a1 = (1.2 w, 0, 0)
+    cell = (mesh.point_data["image_i"] == 0) & (mesh.point_data["image_j"] == 0)
+    points = mesh.points[cell]
+    np.testing.assert_allclose(points[-1] - points[0], [1.2 * 1.33, 0, 0], atol=1e-9)
+    assert cell.sum() * 9 == len(mesh.points)
+
+
+def test_report_without_json(capsys):
+    assert main([*ARGS, "--case", "uniaxial-wale", "--frictionless"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("uniaxial-wale: yarn radius 0.16 mm")
+    assert "Poisson ratio" in out and "Newton iterations" in out
+
+
+def test_a_run_that_stops_writes_what_converged_and_exits_3(tmp_path, monkeypatch, capsys):
+    def hopeless(fabric, case, settings, on_step):
+        settings = rve_simulation.RveSettings(
+            cell=settings.cell,
+            yarn=settings.yarn,
+            newton=NewtonOptions(max_iterations=2),
+            stepping=SteppingOptions(max_cutbacks=1),
+        )
+        return rve_simulation.simulate(fabric, case, settings, on_step=on_step)
+
+    monkeypatch.setattr(cli_simulate, "simulate", hopeless)
+    plot = tmp_path / "curve.png"
+    code = main([*ARGS, "--max-strain", "0.4", "--steps", "3", "--json", "--plot", str(plot)])
+    assert code == 3
+    captured = capsys.readouterr()
+    data = json.loads(captured.out)
+    assert data["complete"] is False and 1 <= len(data["strain"]) < 3
+    assert captured.err.strip().splitlines()[-1].startswith("rve-rod simulate: not converged:")
+    assert plot.exists()
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--max-strain", "1.5"], "max_strain=1.5 is outside the valid range"),
+        (["--steps", "1"], "steps=1 is outside the valid range"),
+        (["--control-points", "8"], "control_points=8 is below the geometry's own 12"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(extra, message, capsys):
+    assert main([*ARGS, *extra]) == 2
+    error = capsys.readouterr().err
+    assert message in error and error.count("\n") == 1

@@ -1,0 +1,55 @@
+"""The paper's yarn model: adjusted radius, stiffness scalings and contact laws from the presets."""
+
+import math
+
+import pytest
+
+from rve_rod.errors import InputError
+from rve_rod.presets import Fabric, Knit, Yarn, load_preset, stitch_values
+from rve_rod.rve.yarn import YarnSettings, yarn_model
+
+
+@pytest.mark.parametrize("stitch", stitch_values("cotton-20s2"))
+def test_cotton_fabrics_are_squeezed_to_a_wale_width_over_eight(stitch):
+    fabric = load_preset("cotton-20s2", stitch)
+    model = yarn_model(fabric)
+    r0, E0 = 0.19, 80.0
+    r = fabric.knit.wale_width / 8
+    ratio = r0 / r
+    assert model.radius == pytest.approx(r) and model.adjusted
+    # A with E_A = E0 scaled by (r0/r)^4, C with E_C = E0/2 scaled by (r0/r)^6, I = pi r^4/4
+    assert model.section.axial == pytest.approx(E0 * math.pi * r**2 * ratio**4)
+    assert model.section.bending_1 == pytest.approx(0.5 * E0 * math.pi * r**4 / 4 * ratio**6)
+    assert model.section.torsion == pytest.approx(0.5 * E0 / 2.6 * math.pi * r**4 / 2 * ratio**6)
+    assert model.law.stiffness == pytest.approx(0.01 * E0 * ratio**8)
+    assert model.law.exponent == pytest.approx(3 - ratio**3)
+    assert model.friction.coefficient == 0.15
+
+
+def test_loose_knit_keeps_the_measured_radius_and_the_papers_inertia_option():
+    fabric = load_preset("vassiliadis-sample2")  # w/8 = 0.104 > r0 = 0.0923
+    model = yarn_model(fabric, YarnSettings(second_moment="paper", friction=False))
+    r = 0.0923
+    assert model.radius == r and not model.adjusted
+    assert model.section.bending_1 == pytest.approx(0.5 * 800 * math.pi * r**4 / 12)
+    assert model.law.exponent == 2.0
+    assert model.friction is None
+
+
+def test_frictionless_yarn_has_no_friction_law():
+    fabric = Fabric(Yarn(0.19, 80.0, friction_coefficient=0.0), Knit(1.33, 1.26))
+    assert yarn_model(fabric).friction is None
+
+
+def test_exponent_limit_is_a_clear_error():
+    # r = w/8 = 0.14 mm, r0/r = 1.357: p = 3 - 2.5 = 0.5 < 1
+    fabric = Fabric(Yarn(0.19, 80.0), Knit(1.12, 1.0))
+    with pytest.raises(InputError, match=r"contact exponent p=3-\(r0/r\)\^3=0\.5"):
+        yarn_model(fabric)
+
+
+def test_bad_settings_are_refused():
+    with pytest.raises(InputError, match="second_moment='hollow'"):
+        YarnSettings(second_moment="hollow")
+    with pytest.raises(InputError, match="rotational_modulus_factor=-1"):
+        YarnSettings(rotational_modulus_factor=-1)
