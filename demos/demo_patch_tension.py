@@ -25,7 +25,7 @@ from fabric_dolfinx.io import read_rve_curve
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.plot import plot_cell_field, plot_force_strain
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.synthetic import StiffeningLaw, synthetic_surface
+from fabric_dolfinx.synthetic import COTTON_LIKE_LAW, synthetic_surface
 from fabric_dolfinx.tension import TensionSetup, TensionTest, homogeneous_response
 from rve_rod.surface import read_surface, write_surface
 from rve_rod.units import n_per_mm_to_gf_per_cm
@@ -44,12 +44,13 @@ if comm.rank == 0:
 comm.barrier()
 
 # Until the RVE produces real surfaces, the material is the B-spline interpolant (degree 2,
-# as in the paper) of an analytic stiffening law, S11 = a1 (exp(b1 E11) - 1) + c E22 and
-# alike across (see fabric_dolfinx.synthetic). It goes through the surface file, as a real
-# surface would: written by rank 0, read back by every rank.
+# as in the paper) of an analytic stiffening law, S11 = (k1 / b1) (exp(b1 E11) - 1) + c E22
+# and alike across (rve_rod.homogenize.analytic, with the cotton-like parameters of
+# fabric_dolfinx.synthetic). It goes through the surface file, as a real surface would:
+# written by rank 0, read back by every rank.
 surface_path = Path(args.surface) if args.surface else output / "synthetic_surface.h5"
 if not args.surface and comm.rank == 0:
-    write_surface(surface_path, synthetic_surface(StiffeningLaw(), kind="stress"))
+    write_surface(surface_path, synthetic_surface(COTTON_LIKE_LAW, kind="stress"))
 comm.barrier()
 surface = read_surface(surface_path)
 material = surface_material(surface, name=surface_path.name)

@@ -10,7 +10,7 @@ from rve_rod.contact import (
     Patch,
     YarnChain,
 )
-from rve_rod.contact.scenes import knit_like_loop
+from rve_rod.contact.scenes import knit_loop
 from rve_rod.geometry.bspline import greville_abscissae, open_knot_vector
 
 STEP = 1e-7
@@ -96,15 +96,18 @@ def test_crossed_rods_tangent(friction, shift, state):
         (CoulombFriction(coefficient=0.05, tangential_stiffness=30.0), "slip"),
     ],
 )
-def test_knit_cell_tangent_with_images_under_shear(friction, state):
-    scene = knit_like_loop(n_control_points=12)
-    law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=0.17)
+def test_knit_cell_tangent_with_images_under_shear(cotton_loop, friction, state):
+    # The cotton loop and its images mapped by a compressive shear F (as built they only
+    # touch), the control points then perturbed.
+    scene = knit_loop(cotton_loop, 20)
+    law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=cotton_loop.yarn_radius)
     model = ContactModel(
         scene.patches, scene.positions, law, friction=friction, lattice=scene.lattice
     )
-    deformation = np.array([[1.03, 0.04, 0.0], [0.02, 0.985, 0.0], [0.0, 0.0, 1.0]])
+    deformation = np.array([[0.96, 0.04, 0.0], [0.02, 0.95, 0.0], [0.0, 0.0, 1.0]])
     rng = np.random.default_rng(5)
-    positions = scene.positions + 0.004 * rng.normal(size=scene.positions.shape)
+    positions = scene.positions @ deformation.T
+    positions += 0.004 * rng.normal(size=positions.shape)
     result = model.evaluate(positions, deformation)
     stats = result.statistics
     images = {tuple(image) for image in result.contacts.image}
