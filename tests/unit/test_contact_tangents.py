@@ -123,12 +123,12 @@ def test_knit_cell_tangent_with_images_under_shear(cotton_loop, friction, state)
     assert_relative(result.deformation_jacobian, fd_deformation)
 
 
-def test_per_contact_derivatives_sum_to_the_line_load_ones_and_match_differences():
+def test_per_contact_derivatives_sum_to_the_line_load_ones_and_match_differences(cotton_loop):
     """The per-contact loads (what the macro stress weights by lattice image) have their own
     derivatives: they sum to the per-point ones, and a weighted sum of them matches central
     differences of the same weighted sum (contacts keep their order under tiny steps)."""
-    scene = knit_like_loop(n_control_points=12)
-    law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=0.17)
+    scene = knit_loop(cotton_loop, 12)
+    law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=cotton_loop.yarn_radius)
     friction = CoulombFriction(coefficient=0.05, tangential_stiffness=30.0)
     model = ContactModel(
         scene.patches, scene.positions, law, friction=friction, lattice=scene.lattice
