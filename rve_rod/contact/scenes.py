@@ -68,3 +68,40 @@ def knit_loop(geometry: LoopGeometry, n_control_points: int | None = None) -> Sc
     positions = np.vstack([curve.control_points for curve in curves])
     lattice = PeriodicLattice(geometry.lattice)
     return Scene(patches, positions, [YarnChain((0, 1, 2, 3), (1, 0))], lattice)
+
+
+def wrapped_rods(
+    tilt: float = 0.0,
+    lean: float = 0.02,
+    n_control_points: int = 17,
+    degree: int = 4,
+    *,
+    periodic: bool = False,
+) -> Scene:
+    """A straight rod along x and a rod that wraps around it: two close distance minima.
+
+    Rod 0 runs along x from -1 to 1 (mm). Rod 1 lies near the y-z plane, at polar angle t
+    in [-1.8, 1.8] about the x axis at the radius rho(t) = 0.36 + tilt t +
+    0.02 ((t / 0.8)^2 - 1)^2 (mm), shifted by lean t along x: seen from the origin, for
+    tilt = 0 it has two equal distance minima rho = 0.36 at t = +-0.8 and a maximum 0.38 at
+    t = 0, i.e. two minima 0.58 mm apart along rod 1, both within 2r = 0.4 mm for r = 0.2;
+    the tilt makes one deeper, and near tilt = 0.025 the shallower minimum and the maximum
+    meet and vanish (a fold). The control points sample the formulas at the Greville
+    abscissae.
+
+    periodic: put rod 1 one course higher (y + 1.5) in a lattice a1 = (3, 0, 0),
+    a2 = (0, 1.5, 0), so that rod 0 touches its image (0, -1) (and rod 1 rod 0's image (0, 1)).
+    """
+    check_integer("n_control_points", n_control_points, degree + 1)
+    knots = open_knot_vector(degree, n_control_points)
+    g = greville_abscissae(knots, degree)
+    rod_0 = np.stack([-1.0 + 2.0 * g, 0.0 * g, 0.0 * g], axis=1)
+    t = -1.8 + 3.6 * g
+    rho = 0.36 + tilt * t + 0.02 * ((t / 0.8) ** 2 - 1.0) ** 2
+    rod_1 = np.stack([lean * t, rho * np.sin(t), -rho * np.cos(t)], axis=1)
+    lattice = None
+    if periodic:
+        rod_1[:, 1] += 1.5
+        lattice = PeriodicLattice.rectangular(3.0, 1.5)
+    patches = [Patch(degree, knots), Patch(degree, knots)]
+    return Scene(patches, np.vstack([rod_0, rod_1]), [YarnChain((0,)), YarnChain((1,))], lattice)

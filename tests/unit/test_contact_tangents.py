@@ -10,7 +10,7 @@ from rve_rod.contact import (
     Patch,
     YarnChain,
 )
-from rve_rod.contact.scenes import knit_loop
+from rve_rod.contact.scenes import knit_loop, wrapped_rods
 from rve_rod.geometry.bspline import greville_abscissae, open_knot_vector
 
 STEP = 1e-7
@@ -177,3 +177,42 @@ def test_per_contact_derivatives_sum_to_the_line_load_ones_and_match_differences
     assert_relative(
         weights @ result.contact_deformation_jacobian, np.array(by_deformation) / (2 * STEP)
     )
+
+
+@pytest.mark.parametrize(
+    ("friction", "state"),
+    [
+        (None, "normal"),
+        (CoulombFriction(coefficient=10.0, tangential_stiffness=1.0), "stick"),
+        (CoulombFriction(coefficient=0.05, tangential_stiffness=10.0), "slip"),
+    ],
+)
+@pytest.mark.parametrize("tilt", [0.0, 0.012])
+def test_shared_minima_tangent_with_images_under_shear(friction, state, tilt):
+    """A rod wrapped around another (through a lattice image): slave points with two close
+    distance minima share one contact by prominence weights (rve_rod.contact.regions), whose
+    derivatives (through the separating maximum) are part of the tangent."""
+    scene = wrapped_rods(tilt=tilt, periodic=True)
+    model = ContactModel(
+        scene.patches,
+        scene.positions,
+        LAW,
+        friction=friction,
+        yarns=scene.yarns,
+        lattice=scene.lattice,
+    )
+    deformation = np.array([[1.02, 0.004, 0.0], [0.003, 1.002, 0.0], [0.0, 0.0, 1.0]])
+    rng = np.random.default_rng(3)
+    positions = scene.positions + 0.001 * rng.normal(size=scene.positions.shape)
+    result = model.evaluate(positions, deformation)
+    stats = result.statistics
+    weight = result.contacts.weight
+    assert np.count_nonzero((weight > 0.05) & (weight < 0.95)) >= 2
+    assert {tuple(image) for image in result.contacts.image} == {(0, 1), (0, -1)}
+    if state == "stick":
+        assert stats.sticking == stats.active_contacts
+    if state == "slip":
+        assert stats.sliding == stats.active_contacts
+    fd_positions, fd_deformation = finite_difference_jacobians(model, positions, deformation)
+    assert_relative(result.jacobian.toarray(), fd_positions)
+    assert_relative(result.deformation_jacobian, fd_deformation)
