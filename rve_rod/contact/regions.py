@@ -218,6 +218,15 @@ def separating_maxima(
     )
 
 
+def _far(points: StrandPoints) -> StrandPoints:
+    """Copies of points at infinite distance."""
+    return StrandPoints(
+        *(np.array(field, copy=True) for field in points[:-2]),
+        distance=np.full(points.distance.size, np.inf),
+        normal=np.zeros_like(points.normal),
+    )
+
+
 def region_weights(
     geometry: StrandGeometry,
     slave_points: np.ndarray,
@@ -246,13 +255,21 @@ def region_weights(
         return RegionWeights(weight, WeightTerms.empty(), 0)
     pairs = np.flatnonzero(linked)
     left, right = order[pairs], order[pairs + 1]
-    maxima = separating_maxima(
-        geometry,
-        slave_points,
-        minima.subset(left),
-        minima.subset(right),
-    )
     touch = 2.0 * radius
+    # A maximum between two minima that do not penetrate changes no prominence (both are 0):
+    # it is searched only next to a penetrating minimum, else taken as infinitely far.
+    needed = (minima.distance[left] < touch) | (minima.distance[right] < touch)
+    maxima = _far(minima.subset(left))
+    if np.any(needed):
+        found = separating_maxima(
+            geometry,
+            slave_points,
+            minima.subset(left[needed]),
+            minima.subset(right[needed]),
+        )
+        for field, values in zip(maxima[:-1], found[:-1], strict=True):
+            field[needed] = values
+        maxima.normal[:, needed] = found.normal
     capped_minimum = np.minimum(minima.distance, touch)
     capped_maximum = np.minimum(maxima.distance, touch)
     # The lower of the (up to two) neighbouring maxima of each minimum, in sorted order.
