@@ -144,14 +144,15 @@ class StrandGeometry:
         starts = np.searchsorted(self._keys, self._yarn_offset[yarn], side="left")
         return self._order[np.clip(starts, 0, self._keys.size - 1)]
 
-    def evaluate(self, span, tau, image):
-        """Point, d/dtau and d2/dtau2 of the master curve, each (3, k), images translated."""
+    def evaluate(self, span, tau, image, values_only=False):
+        """Point, d/dtau and d2/dtau2 of the master curve, each (3, k), images translated
+        (the point alone if values_only)."""
         values = [
             np.einsum("ka,kac->ck", self.layout.basis(span, tau, order), self.span_points[span])
-            for order in range(3)
+            for order in range(1 if values_only else 3)
         ]
         values[0] = values[0] + self.translations(image).T
-        return values
+        return values[0] if values_only else values
 
 
 def separating_maxima(
@@ -171,20 +172,21 @@ def separating_maxima(
     start, stop = left.arc, right.arc
     x_s = slave_points[:, left.slave]
 
-    def distance_squared(arc):
-        span, tau, image = geometry.locate(yarn, left.image, start, arc)
-        point = geometry.evaluate(span, tau, image)[0]
-        return np.sum((point - x_s) ** 2, axis=0)
-
     fractions = np.arange(_SAMPLES + 2) / (_SAMPLES + 1)
     samples = start[None, :] + fractions[:, None] * (stop - start)[None, :]  # (S + 2, k)
-    values = np.stack([distance_squared(row) for row in samples[1:-1]])
+    k = start.size
+    repeat = np.tile(np.arange(k), _SAMPLES)
+    span, tau, image = geometry.locate(
+        yarn[repeat], left.image[repeat], start[repeat], samples[1:-1].ravel()
+    )
+    point = geometry.evaluate(span, tau, image, values_only=True)
+    values = np.sum((point - x_s[:, repeat]) ** 2, axis=0).reshape(_SAMPLES, k)
     best = 1 + np.argmax(values, axis=0)
     columns = np.arange(start.size)
     low = samples[best - 1, columns]
     high = samples[best + 1, columns]
     arc = samples[best, columns]
-    tolerance = 1e-14 * np.maximum(np.abs(stop - start), 1.0)
+    tolerance = 1e-12 * (1.0 + np.abs(start))
     for _ in range(_MAX_ITERATIONS):
         span, tau, image = geometry.locate(yarn, left.image, start, arc)
         point, first, second = geometry.evaluate(span, tau, image)
@@ -203,7 +205,7 @@ def separating_maxima(
         if np.all(done):
             break
     span, tau, image = geometry.locate(yarn, left.image, start, arc)
-    point = geometry.evaluate(span, tau, image)[0]
+    point = geometry.evaluate(span, tau, image, values_only=True)
     gap = x_s - point
     distance = np.linalg.norm(gap, axis=0)
     return StrandPoints(
