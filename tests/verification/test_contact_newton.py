@@ -12,6 +12,12 @@ from rve_rod.geometry.bspline import basis_matrix
 N = 30
 LAW = CompressibleYarnLaw(stiffness=5.0, exponent=1.5, yarn_radius=0.15)
 SPRING = 2.0  # N/mm^2: every point of rod 0 is pulled towards its target
+STATES = [
+    (None, "normal"),
+    (CoulombFriction(coefficient=5.0, tangential_stiffness=0.5), "stick"),
+    (CoulombFriction(coefficient=0.1, tangential_stiffness=5.0), "slip"),
+]
+"""Friction settings that put the contacts in normal contact, stick and slip."""
 
 
 def solve(friction, target_shift, iterations=12, scene=None, law=LAW):
@@ -48,14 +54,7 @@ def solve(friction, target_shift, iterations=12, scene=None, law=LAW):
     return np.array(norms), result
 
 
-@pytest.mark.parametrize(
-    ("friction", "state"),
-    [
-        (None, "normal"),
-        (CoulombFriction(coefficient=5.0, tangential_stiffness=0.5), "stick"),
-        (CoulombFriction(coefficient=0.1, tangential_stiffness=5.0), "slip"),
-    ],
-)
+@pytest.mark.parametrize(("friction", "state"), STATES)
 def test_newton_converges_quadratically(friction, state):
     norms, result = solve(friction, np.array([0.0, 0.01, -0.06]))
     stats = result.statistics
@@ -72,14 +71,7 @@ def test_newton_converges_quadratically(friction, state):
     assert len(norms) <= 8
 
 
-@pytest.mark.parametrize(
-    ("friction", "state"),
-    [
-        (None, "normal"),
-        (CoulombFriction(coefficient=5.0, tangential_stiffness=0.5), "stick"),
-        (CoulombFriction(coefficient=0.1, tangential_stiffness=5.0), "slip"),
-    ],
-)
+@pytest.mark.parametrize(("friction", "state"), STATES)
 def test_newton_converges_quadratically_with_shared_minima(friction, state):
     """The straight rod pulled into a rod wrapped around it: points with two close distance
     minima share one contact (weights strictly between 0 and 1 at the solution), and the
