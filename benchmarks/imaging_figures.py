@@ -21,7 +21,7 @@ def main() -> None:
     photo = SyntheticPhoto(
         1.33,
         1.26,
-        0.166,
+        0.19,
         angle_deg=10.0,
         width_px=250,
         height_px=250,

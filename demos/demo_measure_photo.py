@@ -20,11 +20,11 @@ from rve_rod.presets import load_preset
 output = Path(sys.argv[1]) if len(sys.argv) > 1 else Path("results")
 output.mkdir(parents=True, exist_ok=True)
 
-# The fabric: cotton 20s/2 knitted at stitch value 5.5 (w = 1.33 mm, c = 1.26 mm). The yarn
-# is drawn with the model's adjusted radius r = min(r0, w/8).
+# The fabric: cotton 20s/2 knitted at stitch value 5.5 (w = 1.33 mm, c = 1.26 mm). The photo
+# shows the model's loop (`rve_rod.geometry.loop`), its yarn drawn with the adjusted radius
+# r = min(r0, w/8).
 fabric = load_preset("cotton-20s2", stitch=5.5)
 wale_width, course_height = fabric.knit.wale_width, fabric.knit.course_height
-radius = min(fabric.yarn.minimal_radius, wale_width / 8)
 
 # The photo: 20 x 20 mm at 25 pixels per mm, the fabric turned by 8 degrees, slightly out of
 # focus (blur 0.04 mm), lit from one side with some vignetting, and noisy. It is saved as
@@ -32,7 +32,7 @@ radius = min(fabric.yarn.minimal_radius, wale_width / 8)
 photo = SyntheticPhoto(
     wale_width,
     course_height,
-    radius,
+    fabric.yarn.minimal_radius,
     angle_deg=8.0,
     pixels_per_mm=25.0,
     width_px=500,

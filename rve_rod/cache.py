@@ -4,7 +4,7 @@ A key is the SHA-256 of the canonical JSON of the inputs together with the packa
 so a result is reused only when every input is the same, and any change of an input (or of the
 package version) computes it again. Entries are `.npz` files written atomically (temporary
 file in the same folder, then rename): a process killed while writing leaves at most a stray
-`.<key>.*.tmp` file, never a damaged entry under the final name. An entry that cannot be read
+`.<key>.npz.*.tmp` file, never a damaged entry under the final name. An entry that cannot be read
 (or whose stored inputs differ from the requested ones) is deleted and reported as missing.
 
 Canonical JSON: mappings with sorted string keys, tuples as lists, dataclasses as their fields
@@ -19,7 +19,6 @@ import json
 import logging
 import math
 import os
-import tempfile
 import zipfile
 from collections.abc import Mapping
 from pathlib import Path
@@ -27,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from rve_rod import __version__
+from rve_rod.atomic import atomic_write
 from rve_rod.errors import InputError
 
 logger = logging.getLogger(__name__)
@@ -110,20 +110,11 @@ class ResultCache:
             raise InputError(f"array name {_INPUTS_MEMBER!r} is reserved by the cache")
         path = self.path(inputs)
         path.parent.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(
-            dir=path.parent, prefix=f".{path.stem}.", suffix=".tmp"
-        )
-        try:
-            with os.fdopen(handle, "wb") as stream:
-                np.savez(
-                    stream,
-                    **{_INPUTS_MEMBER: np.array(canonical_json(inputs))},
-                    **{name: np.asarray(array) for name, array in arrays.items()},
-                )
-                stream.flush()
-                os.fsync(stream.fileno())
-            os.replace(temporary, path)
-        except BaseException:
-            Path(temporary).unlink(missing_ok=True)
-            raise
+        with atomic_write(path) as temporary, open(temporary, "wb") as stream:
+            # a file object: np.savez would append ".npz" to a file name
+            np.savez(
+                stream,
+                **{_INPUTS_MEMBER: np.array(canonical_json(inputs))},
+                **{name: np.asarray(array) for name, array in arrays.items()},
+            )
         return path

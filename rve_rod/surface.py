@@ -17,7 +17,6 @@ import logging
 import math
 import os
 import subprocess
-import tempfile
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -27,6 +26,7 @@ import h5py
 import numpy as np
 
 from rve_rod import __version__
+from rve_rod.atomic import atomic_write
 from rve_rod.errors import InputError, check_integer
 from rve_rod.geometry.bspline import basis_functions, check_knot_vector
 
@@ -550,25 +550,16 @@ def write_surface(path: str | os.PathLike, surface: ResponseSurface) -> Path:
         parameters = json.dumps(surface.parameters, sort_keys=True, allow_nan=False)
     except (TypeError, ValueError) as error:
         raise InputError(f"surface parameters are not JSON-serializable: {error}") from None
-    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(handle)
-    try:
-        with h5py.File(temporary, "w") as h5:
-            h5.attrs["format"] = FORMAT
-            h5.attrs["version"] = VERSION
-            h5.attrs["kind"] = surface.kind
-            h5.attrs["units"] = UNITS
-            h5.attrs["created"] = created
-            h5.attrs["generator"] = json.dumps(generator, sort_keys=True)
-            h5.attrs["parameters"] = parameters
-            for name, spline in surface.groups().items():
-                _write_group(h5.create_group(name), name, spline, surface.samples.get(name))
-        with open(temporary, "rb+") as stream:
-            os.fsync(stream.fileno())
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+    with atomic_write(path) as temporary, h5py.File(temporary, "w") as h5:
+        h5.attrs["format"] = FORMAT
+        h5.attrs["version"] = VERSION
+        h5.attrs["kind"] = surface.kind
+        h5.attrs["units"] = UNITS
+        h5.attrs["created"] = created
+        h5.attrs["generator"] = json.dumps(generator, sort_keys=True)
+        h5.attrs["parameters"] = parameters
+        for name, spline in surface.groups().items():
+            _write_group(h5.create_group(name), name, spline, surface.samples.get(name))
     logger.info("wrote response surface %s (kind %s)", path, surface.kind)
     return path
 

@@ -1,7 +1,20 @@
-"""Shared test settings: non-interactive plotting, Open MPI allowed as root."""
+"""Shared test settings (non-interactive plotting, Open MPI allowed as root) and fixtures."""
 
 import os
+
+import pytest
+
+from rve_rod.geometry.loop import loop_geometry
+from rve_rod.presets import load_preset
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 os.environ.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
 os.environ.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+
+
+@pytest.fixture(scope="session")
+def cotton_loop():
+    """The loop of cotton 20s/2 at stitch 5.5 (w = 1.33 mm, c = 1.26 mm, r0 = 0.19 mm, so
+    r = w/8): built once per session (about 2 s)."""
+    fabric = load_preset("cotton-20s2", 5.5)
+    return loop_geometry(fabric.knit, fabric.yarn.minimal_radius)

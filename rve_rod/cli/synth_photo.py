@@ -39,11 +39,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     fabric = fabric_from_args(args, need_material=False)
     knit = fabric.knit
-    radius = min(fabric.yarn.minimal_radius, knit.wale_width / 8.0)
     photo = SyntheticPhoto(
         wale_width=knit.wale_width,
         course_height=knit.course_height,
-        yarn_radius=radius,
+        minimal_radius=fabric.yarn.minimal_radius,
         angle_deg=args.angle_deg,
         pixels_per_mm=args.pixels_per_mm,
         width_px=args.size[0],
@@ -55,6 +54,7 @@ def run(args: argparse.Namespace) -> int:
         side=args.side,
     )
     write_image(args.output, render_photo(photo))
+    radius = photo.loop().yarn_radius
     print(
         f"wrote {args.output}: {photo.width_px} x {photo.height_px} px at "
         f"{photo.pixels_per_mm:g} px/mm; w = {photo.wale_width:g} mm, c = "

@@ -32,6 +32,7 @@ from rve_rod.contact.closest_point import project
 from rve_rod.contact.forces import (
     ANCHOR,
     MASTER,
+    SLAVE,
     ContactLoads,
     Kinematics,
     contact_loads,
@@ -45,6 +46,13 @@ from rve_rod.contact.layout import (
     PeriodicLattice,
     YarnChain,
     build_layout,
+)
+from rve_rod.contact.regions import (
+    RegionWeights,
+    StrandGeometry,
+    StrandPoints,
+    WeightTerms,
+    region_weights,
 )
 from rve_rod.errors import InputError, check_integer, check_positive
 
@@ -64,6 +72,10 @@ class ContactOptions:
         exclusion_arc_length: a distance minimum on the point's own yarn closer than this
             reference arc length to the point is adjacency, not contact, and is ignored (mm).
             None: four yarn radii.
+        region_arc_length: minima of one slave point on one strand whose reference arc
+            coordinates are closer than this to their neighbour's share one contact, weighted
+            by their prominence (`rve_rod.contact.regions`) (mm). None: the exclusion arc
+            length.
         max_image_shift: largest |i|, |j| of the lattice images searched (default 3).
         spans_per_box: consecutive knot spans bounded by one box in the broad phase (default
             8; 1 is one box per span). Changes the cost only, never the result.
@@ -71,6 +83,7 @@ class ContactOptions:
 
     search_margin: float | None = None
     exclusion_arc_length: float | None = None
+    region_arc_length: float | None = None
     max_image_shift: int = 3
     spans_per_box: int = 8
 
@@ -79,6 +92,8 @@ class ContactOptions:
             check_positive("search_margin", self.search_margin, "mm")
         if self.exclusion_arc_length is not None:
             check_positive("exclusion_arc_length", self.exclusion_arc_length, "mm")
+        if self.region_arc_length is not None:
+            check_positive("region_arc_length", self.region_arc_length, "mm")
         check_integer("max_image_shift", self.max_image_shift, 1, 100)
         check_integer("spans_per_box", self.spans_per_box, 1)
 
@@ -98,6 +113,8 @@ class ContactStatistics(NamedTuple):
         closest_points: local distance minima found within the detection radius.
         sticking, sliding: active contacts in stick and in slip (0 without friction).
         without_anchor: active contacts without a friction anchor (first touch this step).
+        shared: distance minima that share one contact with a neighbouring minimum (regions of
+            more than one minimum, `rve_rod.contact.regions`).
     """
 
     active_contacts: int
@@ -110,6 +127,7 @@ class ContactStatistics(NamedTuple):
     sticking: int
     sliding: int
     without_anchor: int
+    shared: int = 0
 
 
 class ActiveContacts(NamedTuple):
@@ -121,8 +139,9 @@ class ActiveContacts(NamedTuple):
         image: (k, 2) lattice image (i, j) of the master.
         penetration: (k,) g = 2r - d (mm).
         normal: (3, k) unit normal from master to slave.
-        normal_load: (k,) f_n (N/mm).
-        friction_load: (3, k) f_t (N/mm); zeros without friction.
+        normal_load: (k,) f_n (N/mm), times the contact's region weight.
+        friction_load: (3, k) f_t (N/mm), times the region weight; zeros without friction.
+        weight: (k,) region weight of the contact, in [0, 1] (`rve_rod.contact.regions`).
         sliding: (k,) True where friction slips.
     """
 
@@ -135,6 +154,7 @@ class ActiveContacts(NamedTuple):
     normal_load: np.ndarray
     friction_load: np.ndarray
     sliding: np.ndarray
+    weight: np.ndarray
 
     @property
     def load(self) -> np.ndarray:
@@ -270,6 +290,8 @@ class ContactModel:
         self.search_margin = 0.5 * radius if margin is None else margin
         exclusion = self.options.exclusion_arc_length
         self.exclusion_arc_length = 4.0 * radius if exclusion is None else exclusion
+        region = self.options.region_arc_length
+        self.region_arc_length = self.exclusion_arc_length if region is None else region
         self._groups = group_spans(self.layout, self.options.spans_per_box)
         point_yarn = self.layout.span_yarn[self.layout.point_span]
         self._slave_strands, _ = self.layout.strands(
@@ -320,6 +342,7 @@ class ContactModel:
         layout = self.layout
         slave_points = layout.collocation_positions(points)
         detected = self._closest_points(points, slave_points, deformation)
+        regions = self._region_weights(points, slave_points, deformation, detected)
         radius = self.law.yarn_radius
         active_rows = np.flatnonzero(detected.state.distance < 2.0 * radius)
         active = detected.subset(active_rows)
@@ -333,10 +356,18 @@ class ContactModel:
         trial_history = None
         if self.friction is not None:
             trial_history = self._trial_history(detected, active_rows, loads)
-        line_load = _sum_per_point(active.slave, loads.load, layout.n_points)
+        weight = regions.weight[active_rows]
+        weighted = loads._replace(
+            load=loads.load * weight,
+            normal_force=loads.normal_force * weight,
+            friction_load=loads.friction_load * weight,
+            blocks=loads.blocks * weight,
+        )
+        line_load = _sum_per_point(active.slave, weighted.load, layout.n_points)
         jacobian = deformation_jacobian = per_contact = None
         if tangent:
-            per_contact = self._linearization(loads, active, anchors)
+            terms = _active_terms(regions.terms, active_rows, detected.slave.size)
+            per_contact = self._linearization(weighted, active, anchors, loads.load, terms)
             jacobian, deformation_jacobian = _per_point(per_contact, active.slave, layout.n_points)
         penetration = 2.0 * radius - active.state.distance
         contacts = ActiveContacts(
@@ -346,9 +377,10 @@ class ContactModel:
             image=active.image,
             penetration=penetration,
             normal=active.state.normal,
-            normal_load=loads.normal_force,
-            friction_load=loads.friction_load,
+            normal_load=weighted.normal_force,
+            friction_load=weighted.friction_load,
             sliding=loads.sliding,
+            weight=weight,
         )
         counts = detected.counts
         anchored = anchors.span >= 0
@@ -364,6 +396,7 @@ class ContactModel:
             sticking=int(np.count_nonzero(anchored & ~loads.sliding)) if friction_on else 0,
             sliding=int(np.count_nonzero(loads.sliding)),
             without_anchor=int(np.count_nonzero(~anchored)) if friction_on else 0,
+            shared=regions.shared,
         )
         logger.debug(
             "contact: %d active (%d sliding), max penetration %.3g mm, %d span tests of %d",
@@ -482,6 +515,25 @@ class ContactModel:
             ),
         )
 
+    def _region_weights(self, points, slave_points, deformation, detected) -> RegionWeights:
+        """Region weights of the detected minima (`rve_rod.contact.regions`)."""
+        geometry = StrandGeometry(
+            self.layout, points, lambda images: self._shifts(images) @ deformation.T
+        )
+        minima = StrandPoints(
+            slave=detected.slave,
+            span=detected.span,
+            tau=detected.tau,
+            image=detected.image,
+            arc=detected.arc,
+            strand=detected.strand,
+            distance=detected.state.distance,
+            normal=detected.state.normal,
+        )
+        return region_weights(
+            geometry, slave_points, minima, self.law.yarn_radius, self.region_arc_length
+        )
+
     def _shifts(self, images: np.ndarray) -> np.ndarray:
         """Reference lattice shifts (k, 3) of images (k, 2); zeros without a lattice."""
         if self.lattice is None:
@@ -510,7 +562,12 @@ class ContactModel:
     # -- linearization --------------------------------------------------------------------------
 
     def _linearization(
-        self, loads: ContactLoads, active: _Selection, anchors: _Anchors
+        self,
+        loads: ContactLoads,
+        active: _Selection,
+        anchors: _Anchors,
+        unweighted: np.ndarray,
+        terms: WeightTerms,
     ) -> "_ContactDerivatives":
         """Per-contact sparse d load / d positions and dense d load / d F from the 3x3
         derivative blocks (rows c k + i for contact i).
@@ -518,7 +575,66 @@ class ContactModel:
         A load at slave point j depends on the control points a of its own span through
         x_s = sum_a N_a(tau_j) P_a, on those of the master span through x_m = sum_b N_b P_b + F L
         and C' = sum_b N_b' P_b, and on the anchor span's through x_a = sum_c N_c P_c + F L_a.
+        loads are the weighted loads w l (blocks w dl); the weight derivatives add
+        l c n_q^T (dx_s - dx_q) per term (`unweighted`: (3, k) the loads l).
         """
+        weighted = self._block_derivatives(loads.blocks, active, anchors)
+        if terms.contact.size == 0:
+            return weighted
+        k = active.slave.size
+        t = terms.contact.size
+        outer = np.einsum(
+            "ct,dt->cdt", unweighted[:, terms.contact] * terms.coefficient, terms.normal
+        )
+        blocks = np.zeros((4, 3, 3, t))
+        blocks[SLAVE] = outer
+        blocks[MASTER] = -outer
+        layout = self.layout
+        first = np.stack(
+            [
+                layout.span_first[layout.point_span[active.slave[terms.contact]]],
+                layout.span_first[terms.span],
+                np.full(t, -1),
+            ]
+        )
+        basis = np.zeros((4, t, layout.degree + 1))
+        basis[0] = layout.point_basis[active.slave[terms.contact]]
+        basis[1] = layout.basis(terms.span, terms.tau)
+        size = t * 9 * 2 * (layout.degree + 1)
+        rows = np.empty(size, dtype=np.int64)
+        columns = np.empty(size, dtype=np.int64)
+        values = np.empty(size)
+        count = _kernels.block_entries(
+            blocks,
+            terms.contact,
+            k,
+            np.ascontiguousarray(first),
+            np.ascontiguousarray(basis.transpose(0, 2, 1)),
+            rows,
+            columns,
+            values,
+        )
+        positions = weighted.positions
+        jacobian = scipy.sparse.coo_matrix(
+            (
+                np.concatenate([positions.data, values[:count]]),
+                (
+                    np.concatenate([positions.row, rows[:count]]),
+                    np.concatenate([positions.col, columns[:count]]),
+                ),
+            ),
+            shape=positions.shape,
+        )
+        shift = self._shifts(terms.image)
+        extra = np.einsum("iat,tb->tiab", blocks[MASTER][:, :2], shift[:, :2]).reshape(t, 3, 4)
+        deformation = weighted.deformation.reshape(3, k, 4).copy()
+        np.add.at(deformation, (slice(None), terms.contact), extra.transpose(1, 0, 2))
+        return _ContactDerivatives(jacobian, deformation.reshape(3 * k, 4))
+
+    def _block_derivatives(
+        self, blocks: np.ndarray, active: _Selection, anchors: _Anchors
+    ) -> "_ContactDerivatives":
+        """The derivatives of the contact loads from their 3x3 blocks (4, 3, 3, k)."""
         slave, span, tau, shift = active.slave, active.span, active.tau, active.shift
         layout = self.layout
         anchored = anchors.span >= 0
@@ -539,7 +655,6 @@ class ContactModel:
                 anchor_basis,
             ]
         ).transpose(0, 2, 1)
-        blocks = loads.blocks
         size = slave.size * 9 * 3 * (layout.degree + 1)
         rows = np.empty(size, dtype=np.int64)
         columns = np.empty(size, dtype=np.int64)
@@ -588,6 +703,22 @@ class ContactModel:
                 f"deformation_gradient must be a finite (3, 3) array, got {deformation.shape}"
             )
         return deformation
+
+
+def _active_terms(terms: WeightTerms, active_rows: np.ndarray, detected: int) -> WeightTerms:
+    """The weight terms of active contacts, their `contact` renumbered to active indices."""
+    index = np.full(detected, -1)
+    index[active_rows] = np.arange(active_rows.size)
+    contact = index[terms.contact]
+    keep = contact >= 0
+    return WeightTerms(
+        contact=contact[keep],
+        span=terms.span[keep],
+        tau=terms.tau[keep],
+        image=terms.image[keep],
+        normal=terms.normal[:, keep],
+        coefficient=terms.coefficient[keep],
+    )
 
 
 class _ContactDerivatives(NamedTuple):

@@ -1,11 +1,4 @@
-"""Small contact scenes for verification and benchmarks: crossed rods and a knit-like loop cell.
-
-The knit-like loop is Crane's parametric plain-knit yarn (K. Crane, "A simple parametric model
-of plain-knit yarns", 2023): one loop of a course row is gamma(t) = (t + a sin 2t, h cos t,
-d cos 2t), t in [0, 2 pi], scaled so that its period along x is the wale width; courses repeat
-along y. It is not the project's loop geometry (rve_rod.geometry), only an interlocking,
-periodic yarn of the right size and shape to exercise the contact search on.
-"""
+"""Small contact scenes for verification and benchmarks: crossed rods and the knit's loop cell."""
 
 from typing import NamedTuple
 
@@ -13,7 +6,8 @@ import numpy as np
 
 from rve_rod.contact.layout import Patch, PeriodicLattice, YarnChain
 from rve_rod.errors import check_integer, check_positive
-from rve_rod.geometry.bspline import greville_abscissae, interpolate, open_knot_vector
+from rve_rod.geometry.bspline import greville_abscissae, open_knot_vector
+from rve_rod.geometry.loop import LoopGeometry
 
 
 class Scene(NamedTuple):
@@ -56,39 +50,58 @@ def crossed_rods(
     return Scene(patches, np.vstack([rod_0, rod_1]), [YarnChain((0,)), YarnChain((1,))], None)
 
 
-def knit_like_loop(
-    wale_width: float = 1.33,
-    course_height: float = 0.95,
-    n_control_points: int = 68,
-    degree: int = 4,
-    *,
-    roundness: float = 1.5,
-    height: float = 4.0,
-    depth: float = 1.0,
-) -> Scene:
-    """One loop of Crane's plain-knit yarn as 4 patches, periodic along a1 = (w, 0, 0).
+def knit_loop(geometry: LoopGeometry, n_control_points: int | None = None) -> Scene:
+    """One loop of the knit (`rve_rod.geometry.loop`) as its 4 patches, periodic along a1.
 
     Args:
-        wale_width: w, the loop period along x (mm).
-        course_height: c, the course spacing along y (mm).
-        n_control_points: control points per patch (each patch is a quarter loop).
-        degree: B-spline degree.
-        roundness, height, depth: Crane's a, h, d in units where the period is 2 pi.
+        geometry: the loop (e.g. `loop_geometry(knit, minimal_radius)`).
+        n_control_points: control points per patch (each patch is a quarter loop): 12, 20,
+            36, 68, 132, ... (`LoopGeometry.refined`, the same shape for all); None keeps
+            the loop's own curves.
+
+    The yarn runs through the patches 0, 1, 2, 3 and continues into the loop of the next wale,
+    image (1, 0); the lattice is the loop's, a1 = (w, 0, 0), a2 = (0, c, 0). The loop clears
+    its neighbours by exactly 2r where the yarns touch, so at F = I the contacts just touch.
     """
-    check_positive("wale_width", wale_width, "mm")
-    check_positive("course_height", course_height, "mm")
+    curves = geometry.curves if n_control_points is None else geometry.refined(n_control_points)
+    patches = [Patch(curve.degree, curve.knots) for curve in curves]
+    positions = np.vstack([curve.control_points for curve in curves])
+    lattice = PeriodicLattice(geometry.lattice)
+    return Scene(patches, positions, [YarnChain((0, 1, 2, 3), (1, 0))], lattice)
+
+
+def wrapped_rods(
+    tilt: float = 0.0,
+    lean: float = 0.02,
+    n_control_points: int = 17,
+    degree: int = 4,
+    *,
+    periodic: bool = False,
+) -> Scene:
+    """A straight rod along x and a rod that wraps around it: two close distance minima.
+
+    Rod 0 runs along x from -1 to 1 (mm). Rod 1 lies near the y-z plane, at polar angle t
+    in [-1.8, 1.8] about the x axis at the radius rho(t) = 0.36 + tilt t +
+    0.02 ((t / 0.8)^2 - 1)^2 (mm), shifted by lean t along x: seen from the origin, for
+    tilt = 0 it has two equal distance minima rho = 0.36 at t = +-0.8 and a maximum 0.38 at
+    t = 0, i.e. two minima 0.58 mm apart along rod 1, both within 2r = 0.4 mm for r = 0.2;
+    the tilt makes one deeper, and near tilt = 0.025 the shallower minimum and the maximum
+    meet and vanish (a fold). The control points sample the formulas at the Greville
+    abscissae.
+
+    periodic: put rod 1 one course higher (y + 1.5) in a lattice a1 = (3, 0, 0),
+    a2 = (0, 1.5, 0), so that rod 0 touches its image (0, -1) (and rod 1 rod 0's image (0, 1)).
+    """
     check_integer("n_control_points", n_control_points, degree + 1)
-    scale = wale_width / (2.0 * np.pi)
     knots = open_knot_vector(degree, n_control_points)
-    params = greville_abscissae(knots, degree)
-    patches, positions = [], []
-    for quarter in range(4):
-        t = 0.5 * np.pi * (quarter + params)
-        points = scale * np.stack(
-            [t + roundness * np.sin(2 * t), height * np.cos(t), depth * np.cos(2 * t)], axis=1
-        )
-        curve = interpolate(points, degree, params=params, knots=knots)
-        patches.append(Patch(degree, knots))
-        positions.append(curve.control_points)
-    lattice = PeriodicLattice.rectangular(wale_width, course_height)
-    return Scene(patches, np.vstack(positions), [YarnChain((0, 1, 2, 3), (1, 0))], lattice)
+    g = greville_abscissae(knots, degree)
+    rod_0 = np.stack([-1.0 + 2.0 * g, 0.0 * g, 0.0 * g], axis=1)
+    t = -1.8 + 3.6 * g
+    rho = 0.36 + tilt * t + 0.02 * ((t / 0.8) ** 2 - 1.0) ** 2
+    rod_1 = np.stack([lean * t, rho * np.sin(t), -rho * np.cos(t)], axis=1)
+    lattice = None
+    if periodic:
+        rod_1[:, 1] += 1.5
+        lattice = PeriodicLattice.rectangular(3.0, 1.5)
+    patches = [Patch(degree, knots), Patch(degree, knots)]
+    return Scene(patches, np.vstack([rod_0, rod_1]), [YarnChain((0,)), YarnChain((1,))], lattice)

@@ -4,6 +4,8 @@ It implements the RVE engine interface (`run(case) -> RveRun`) so that sampling,
 caching and parallel generation can be tested and benchmarked before (and independently of)
 the rod RVE. It is NOT a model of a knit; its law only mimics the features the fits must
 handle: stiffening in tension, softening in compression, biaxial coupling, nonlinear shear.
+The same law, interpolated by B-splines, is the membrane's material until RVE surfaces exist
+(`fabric_dolfinx.synthetic`).
 
     S11 = k1 (exp(b1 E11) - 1) / b1 + c12 E22
     S22 = k2 (exp(b2 E22) - 1) / b2 + c21 E11
@@ -14,11 +16,12 @@ W = k1 (exp(b1 E11) - 1 - b1 E11) / b1^2 + k2 (...) / b2^2 + c E11 E22 + kg (E12
 otherwise dS11/dE22 != dS22/dE11 and no energy exists.
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from rve_rod.errors import ConvergenceError, check_finite, check_positive
+from rve_rod.errors import ConvergenceError, InputError, check_finite, check_positive
 from rve_rod.homogenize.samples import RveCase, RveRun
 from rve_rod.stress_measures import green_lagrange, voigt
 
@@ -33,7 +36,8 @@ class AnalyticRve:
         wale_stiffness: k2 (N/mm).
         wale_stiffening: b2 (-).
         coupling_11_22: c12 = dS11/dE22 (N/mm).
-        coupling_22_11: c21 = dS22/dE11 (N/mm); equal to c12 for a hyperelastic law.
+        coupling_22_11: c21 = dS22/dE11 (N/mm); equal to c12 for a hyperelastic law. The
+            tangent at E = 0 must be positive definite: |c12 + c21| / 2 < sqrt(k1 k2).
         shear_stiffness: kg (N/mm).
         shear_stiffening_strain: eg, strain scale of the cubic shear stiffening (-): the shear
             tangent is kg (1 + 6 E12^2 / eg^2).
@@ -65,6 +69,13 @@ class AnalyticRve:
             check_positive(name, getattr(self, name))
         check_finite("coupling_11_22", self.coupling_11_22)
         check_finite("coupling_22_11", self.coupling_22_11)
+        coupling = 0.5 * (self.coupling_11_22 + self.coupling_22_11)
+        limit = math.sqrt(self.course_stiffness * self.wale_stiffness)
+        if not abs(coupling) < limit:
+            raise InputError(
+                f"coupling (c12 + c21)/2={coupling:.6g} N/mm must satisfy |.| < sqrt(k1 k2) = "
+                f"{limit:.6g} N/mm (a positive definite tangent at E = 0)"
+            )
         if self.compression_limit is not None:
             check_positive("compression_limit", self.compression_limit)
 
@@ -79,7 +90,8 @@ class AnalyticRve:
         return np.stack([S11, S22, S12], axis=1)
 
     def energy(self, E: np.ndarray) -> np.ndarray:
-        """W (m,) in N/mm; only a potential of `stress` when coupling_11_22 == coupling_22_11."""
+        """W (m,) in N/mm at E (m, 3); only a potential of `stress` when coupling_11_22 ==
+        coupling_22_11: then dW/dE11 = S11, dW/dE22 = S22 and dW/dE12 = 2 S12 (tensor shear)."""
         E11, E22, E12 = np.asarray(E, dtype=float).T
         k1, b1 = self.course_stiffness, self.course_stiffening
         k2, b2 = self.wale_stiffness, self.wale_stiffening

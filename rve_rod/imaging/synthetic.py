@@ -1,11 +1,12 @@
 """Synthetic photos of single jersey: a top view of the yarns of the loop model, for testing.
 
-The renderer draws the yarn tubes (radius r) of one periodic loop cell [0, w) x [0, c) into a
-height map (a z-buffer: the top surface of the highest yarn over each point), shades it by
-height and by the slope of the surface (light from the upper left), blurs it with the optics'
-point-spread function, tiles it over the image at the fabric's rotation angle, and adds the
-defects of a real photo: uneven lighting and sensor noise. Because the blur is an isotropic
-Gaussian it commutes with the rotation and the tiling, so it is applied once on the cell.
+The renderer draws the yarn tubes (radius r) of the loop of `rve_rod.geometry.loop`, tiled
+over the periodic cell [0, w) x [0, c), into a height map (a z-buffer: the top surface of the
+highest yarn over each point), shades it by height and by the slope of the surface (light from
+the upper left), blurs it with the optics' point-spread function, tiles it over the image at
+the fabric's rotation angle, and adds the defects of a real photo: uneven lighting and sensor
+noise. Because the blur is an isotropic Gaussian it commutes with the rotation and the tiling,
+so it is applied once on the cell.
 
 Frames: fabric x = course-wise (period w), y = wale-wise (period c). Image coordinates are
 in mm from the image centre with Y pointing up (rows run downwards); the fabric appears
@@ -19,15 +20,8 @@ import numpy as np
 import scipy.ndimage
 
 from rve_rod.errors import InputError, check_integer, check_positive, check_range
-
-STANDIN_ROUNDNESS = 1.5
-"""Crane's loop roundness a (-) of the stand-in centreline."""
-
-STANDIN_HEIGHT_RATIO = 8.0 / 9.0
-"""Loop half-height over course height h/c (-): Crane's h = 4 with row spacing 4.5."""
-
-STANDIN_DEPTH_RATIO = 2.0
-"""Loop depth over yarn radius d/r (-): Crane's d = 1 with yarn radius 1/2."""
+from rve_rod.geometry.loop import LoopGeometry, loop_geometry, loop_polylines
+from rve_rod.presets import Knit
 
 BACKGROUND_INTENSITY = 0.05
 """Intensity of the gaps between the yarns (the dark backing of the photo)."""
@@ -46,7 +40,8 @@ class SyntheticPhoto:
     Attributes:
         wale_width: w, loop period along the fabric x axis (mm).
         course_height: c, loop period along the fabric y axis (mm).
-        yarn_radius: r, drawn yarn radius (mm), in (0, min(w/4, c/2)].
+        minimal_radius: r0, the yarn's minimal radius (mm); the loop model draws the yarn with
+            its adjusted radius r = min(r0, w/8).
         angle_deg: in-plane rotation of the fabric, counter-clockwise (degrees), |.| <= 45.
         pixels_per_mm: resolution (pixels per mm).
         width_px, height_px: image size (pixels), each >= 8.
@@ -55,13 +50,13 @@ class SyntheticPhoto:
         lighting: relative amplitude of the uneven lighting, in [0, 0.9]: a linear gradient
             and a vignette, each of that amplitude across the image.
         seed: seed of the noise generator.
-        side: "face" (the technical face, legs on top, seen from -z) or "back" (heads and
-            sinker loops on top, seen from +z).
+        side: "face" (the technical face, legs on top, seen from +z) or "back" (heads and
+            sinker loops on top, seen from -z).
     """
 
     wale_width: float
     course_height: float
-    yarn_radius: float
+    minimal_radius: float
     angle_deg: float = 0.0
     pixels_per_mm: float = 25.0
     width_px: int = 512
@@ -75,8 +70,7 @@ class SyntheticPhoto:
     def __post_init__(self):
         check_positive("wale_width", self.wale_width, "mm")
         check_positive("course_height", self.course_height, "mm")
-        limit = min(self.wale_width / 4.0, self.course_height / 2.0)
-        check_range("yarn_radius", self.yarn_radius, 1e-12, limit, "mm")
+        check_positive("minimal_radius", self.minimal_radius, "mm")
         check_range("angle_deg", self.angle_deg, -45.0, 45.0, "deg")
         check_positive("pixels_per_mm", self.pixels_per_mm)
         check_integer("width_px", self.width_px, 8)
@@ -87,26 +81,12 @@ class SyntheticPhoto:
         if self.side not in ("face", "back"):
             raise InputError(f"side={self.side!r} must be 'face' or 'back'")
 
+    def loop(self) -> LoopGeometry:
+        """The loop drawn (built about a second, once per process for each w, c, r0).
 
-def loop_centreline(
-    wale_width: float, course_height: float, yarn_radius: float, n_points: int = 512
-) -> np.ndarray:
-    """One loop of the yarn centreline, spanning one wale: points of shape (n_points, 3) in mm.
-
-    The polyline runs over one full period of the yarn, from a point to its image shifted by
-    (w, 0, 0), both ends included.
-
-    Stand-in until the geometric model lands: the row curve of Crane (2023), "A simple
-    parametric model of plain-knit yarns", gamma(t) = (t + a sin 2t, h cos t, d cos 2t) for
-    t in [0, 2 pi], scaled to x = w (t + a sin 2t) / (2 pi), y = (8/9) c cos t,
-    z = 2 r cos 2t (the proportions of Crane's example: a = 3/2, h = 4 for row spacing 4.5,
-    d = 1 for r = 1/2). Translating it by (w, 0) and (0, c) gives the fabric.
-    """
-    t = np.linspace(0.0, 2.0 * math.pi, n_points)
-    x = wale_width * (t + STANDIN_ROUNDNESS * np.sin(2.0 * t)) / (2.0 * math.pi)
-    y = STANDIN_HEIGHT_RATIO * course_height * np.cos(t)
-    z = STANDIN_DEPTH_RATIO * yarn_radius * np.cos(2.0 * t)
-    return np.column_stack([x, y, z])
+        Raises InputError when no loop of the model fits w, c and r0.
+        """
+        return loop_geometry(Knit(self.wale_width, self.course_height), self.minimal_radius)
 
 
 def cell_height_map(
@@ -168,12 +148,13 @@ def shade(height: np.ndarray, wale_width: float, course_height: float) -> np.nda
 
 def render_photo(photo: SyntheticPhoto) -> np.ndarray:
     """The grayscale photo of `photo`, intensities in [0, 1], shape (height_px, width_px)."""
-    w, c, r = photo.wale_width, photo.course_height, photo.yarn_radius
+    loop = photo.loop()
+    w, c, r = photo.wale_width, photo.course_height, loop.yarn_radius
     pixel = 1.0 / photo.pixels_per_mm
     step = min(r / 6.0, 0.5 * pixel)
     shape = (max(8, math.ceil(c / step)), max(8, math.ceil(w / step)))
-    centreline = loop_centreline(w, c, r)
-    if photo.side == "face":
+    ((_, centreline),) = loop_polylines(loop, neighbours=0)  # one yarn period, along x
+    if photo.side == "back":
         # Seen from -z: mirror z, and y too so that the view stays right-handed.
         centreline = centreline * np.array([1.0, -1.0, -1.0])
     height = cell_height_map(centreline, w, c, r, shape)

@@ -93,93 +93,63 @@ def _check_strain(name: str, value: float) -> float:
 
 
 @dataclass(frozen=True)
-class UniaxialCourse(LoadCase):
-    """Course-wise (x) tension: F11 = 1 + t max_strain, F22 free with zero net force along y.
+class NormalStrain(LoadCase):
+    """Base of the uniaxial and strip cases: F_aa = 1 + t max_strain along one axis a.
 
     Attributes:
         max_strain: eps at t = 1 (engineering strain, default 0.2; negative: compression).
     """
 
     max_strain: float = 0.2
+
+    axis: ClassVar[int] = 0
+    """The stretched axis: 0 course-wise (x), 1 wale-wise (y)."""
+
+    def __post_init__(self):
+        super().__post_init__()
+        _check_strain("max_strain", self.max_strain)
+
+    def final_deformation(self) -> np.ndarray:
+        stretch = np.ones(2)
+        stretch[self.axis] += self.max_strain
+        return np.diag(stretch)
+
+    def control(self) -> float:
+        return self.max_strain
+
+
+@dataclass(frozen=True)
+class UniaxialCourse(NormalStrain):
+    """Course-wise (x) tension: F11 = 1 + t max_strain, F22 free with zero net force along y."""
+
     name = "uniaxial-course"
+    axis = 0
     free = ((1, 1),)
 
-    def __post_init__(self):
-        super().__post_init__()
-        _check_strain("max_strain", self.max_strain)
-
-    def final_deformation(self) -> np.ndarray:
-        return np.diag([1.0 + self.max_strain, 1.0])
-
-    def control(self) -> float:
-        return self.max_strain
-
 
 @dataclass(frozen=True)
-class UniaxialWale(LoadCase):
-    """Wale-wise (y) tension: F22 = 1 + t max_strain, F11 free with zero net force along x.
+class UniaxialWale(NormalStrain):
+    """Wale-wise (y) tension: F22 = 1 + t max_strain, F11 free with zero net force along x."""
 
-    Attributes:
-        max_strain: eps at t = 1 (default 0.2).
-    """
-
-    max_strain: float = 0.2
     name = "uniaxial-wale"
+    axis = 1
     free = ((0, 0),)
 
-    def __post_init__(self):
-        super().__post_init__()
-        _check_strain("max_strain", self.max_strain)
-
-    def final_deformation(self) -> np.ndarray:
-        return np.diag([1.0, 1.0 + self.max_strain])
-
-    def control(self) -> float:
-        return self.max_strain
-
 
 @dataclass(frozen=True)
-class StripBiaxialCourse(LoadCase):
-    """Course-wise tension with lateral contraction prevented: F11 = 1 + t eps, F22 = 1.
+class StripBiaxialCourse(NormalStrain):
+    """Course-wise tension with lateral contraction prevented: F11 = 1 + t eps, F22 = 1."""
 
-    Attributes:
-        max_strain: eps at t = 1 (default 0.2).
-    """
-
-    max_strain: float = 0.2
     name = "strip-biaxial-course"
-
-    def __post_init__(self):
-        super().__post_init__()
-        _check_strain("max_strain", self.max_strain)
-
-    def final_deformation(self) -> np.ndarray:
-        return np.diag([1.0 + self.max_strain, 1.0])
-
-    def control(self) -> float:
-        return self.max_strain
+    axis = 0
 
 
 @dataclass(frozen=True)
-class StripBiaxialWale(LoadCase):
-    """Wale-wise tension with lateral contraction prevented: F22 = 1 + t eps, F11 = 1.
+class StripBiaxialWale(NormalStrain):
+    """Wale-wise tension with lateral contraction prevented: F22 = 1 + t eps, F11 = 1."""
 
-    Attributes:
-        max_strain: eps at t = 1 (default 0.2).
-    """
-
-    max_strain: float = 0.2
     name = "strip-biaxial-wale"
-
-    def __post_init__(self):
-        super().__post_init__()
-        _check_strain("max_strain", self.max_strain)
-
-    def final_deformation(self) -> np.ndarray:
-        return np.diag([1.0, 1.0 + self.max_strain])
-
-    def control(self) -> float:
-        return self.max_strain
+    axis = 1
 
 
 @dataclass(frozen=True)

@@ -5,7 +5,7 @@ import pytest
 
 from rve_rod.contact import Patch, PeriodicLattice, YarnChain
 from rve_rod.contact.layout import build_layout
-from rve_rod.contact.scenes import crossed_rods, knit_like_loop
+from rve_rod.contact.scenes import crossed_rods, knit_loop
 from rve_rod.errors import InputError
 from rve_rod.geometry.bspline import BSplineCurve, basis_functions, open_knot_vector
 
@@ -69,8 +69,8 @@ def test_collocation_weights_integrate_splines_exactly():
     np.testing.assert_allclose(np.sum((weights * x**2)[:12]), 2.0 / 3.0, rtol=1e-12)
 
 
-def test_knit_strands_continue_through_the_wale_images():
-    scene = knit_like_loop(n_control_points=12)
+def test_knit_strands_continue_through_the_wale_images(cotton_loop):
+    scene = knit_loop(cotton_loop)
     layout = build_layout(scene.patches, scene.yarns, scene.positions)
     images = np.array([[0, 0], [1, 0], [-2, 0], [0, 1], [1, 1], [0, -1]])
     keys, shifts = layout.strands(np.zeros(6, dtype=np.int64), images)

@@ -10,7 +10,7 @@ from rve_rod.contact import (
     Patch,
     YarnChain,
 )
-from rve_rod.contact.scenes import knit_like_loop
+from rve_rod.contact.scenes import knit_loop, wrapped_rods
 from rve_rod.geometry.bspline import greville_abscissae, open_knot_vector
 
 STEP = 1e-7
@@ -96,15 +96,18 @@ def test_crossed_rods_tangent(friction, shift, state):
         (CoulombFriction(coefficient=0.05, tangential_stiffness=30.0), "slip"),
     ],
 )
-def test_knit_cell_tangent_with_images_under_shear(friction, state):
-    scene = knit_like_loop(n_control_points=12)
-    law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=0.17)
+def test_knit_cell_tangent_with_images_under_shear(cotton_loop, friction, state):
+    # The cotton loop and its images mapped by a compressive shear F (as built they only
+    # touch), the control points then perturbed.
+    scene = knit_loop(cotton_loop, 20)
+    law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=cotton_loop.yarn_radius)
     model = ContactModel(
         scene.patches, scene.positions, law, friction=friction, lattice=scene.lattice
     )
-    deformation = np.array([[1.03, 0.04, 0.0], [0.02, 0.985, 0.0], [0.0, 0.0, 1.0]])
+    deformation = np.array([[0.96, 0.04, 0.0], [0.02, 0.95, 0.0], [0.0, 0.0, 1.0]])
     rng = np.random.default_rng(5)
-    positions = scene.positions + 0.004 * rng.normal(size=scene.positions.shape)
+    positions = scene.positions @ deformation.T
+    positions += 0.004 * rng.normal(size=positions.shape)
     result = model.evaluate(positions, deformation)
     stats = result.statistics
     images = {tuple(image) for image in result.contacts.image}
@@ -120,12 +123,12 @@ def test_knit_cell_tangent_with_images_under_shear(friction, state):
     assert_relative(result.deformation_jacobian, fd_deformation)
 
 
-def test_per_contact_derivatives_sum_to_the_line_load_ones_and_match_differences():
+def test_per_contact_derivatives_sum_to_the_line_load_ones_and_match_differences(cotton_loop):
     """The per-contact loads (what the macro stress weights by lattice image) have their own
     derivatives: they sum to the per-point ones, and a weighted sum of them matches central
     differences of the same weighted sum (contacts keep their order under tiny steps)."""
-    scene = knit_like_loop(n_control_points=12)
-    law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=0.17)
+    scene = knit_loop(cotton_loop, 12)
+    law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=cotton_loop.yarn_radius)
     friction = CoulombFriction(coefficient=0.05, tangential_stiffness=30.0)
     model = ContactModel(
         scene.patches, scene.positions, law, friction=friction, lattice=scene.lattice
@@ -174,3 +177,42 @@ def test_per_contact_derivatives_sum_to_the_line_load_ones_and_match_differences
     assert_relative(
         weights @ result.contact_deformation_jacobian, np.array(by_deformation) / (2 * STEP)
     )
+
+
+@pytest.mark.parametrize(
+    ("friction", "state"),
+    [
+        (None, "normal"),
+        (CoulombFriction(coefficient=10.0, tangential_stiffness=1.0), "stick"),
+        (CoulombFriction(coefficient=0.05, tangential_stiffness=10.0), "slip"),
+    ],
+)
+@pytest.mark.parametrize("tilt", [0.0, 0.012])
+def test_shared_minima_tangent_with_images_under_shear(friction, state, tilt):
+    """A rod wrapped around another (through a lattice image): slave points with two close
+    distance minima share one contact by prominence weights (rve_rod.contact.regions), whose
+    derivatives (through the separating maximum) are part of the tangent."""
+    scene = wrapped_rods(tilt=tilt, periodic=True)
+    model = ContactModel(
+        scene.patches,
+        scene.positions,
+        LAW,
+        friction=friction,
+        yarns=scene.yarns,
+        lattice=scene.lattice,
+    )
+    deformation = np.array([[1.02, 0.004, 0.0], [0.003, 1.002, 0.0], [0.0, 0.0, 1.0]])
+    rng = np.random.default_rng(3)
+    positions = scene.positions + 0.001 * rng.normal(size=scene.positions.shape)
+    result = model.evaluate(positions, deformation)
+    stats = result.statistics
+    weight = result.contacts.weight
+    assert np.count_nonzero((weight > 0.05) & (weight < 0.95)) >= 2
+    assert {tuple(image) for image in result.contacts.image} == {(0, 1), (0, -1)}
+    if state == "stick":
+        assert stats.sticking == stats.active_contacts
+    if state == "slip":
+        assert stats.sliding == stats.active_contacts
+    fd_positions, fd_deformation = finite_difference_jacobians(model, positions, deformation)
+    assert_relative(result.jacobian.toarray(), fd_positions)
+    assert_relative(result.deformation_jacobian, fd_deformation)

@@ -1,24 +1,23 @@
-"""The synthetic surface: an interpolant of the analytic law, stress-free at E = 0, and the
-analytic law itself consistent with its potential."""
+"""The synthetic surface: an interpolant of the analytic law (tests/unit/test_analytic_rve.py),
+stress-free at E = 0."""
 
 import numpy as np
 import pytest
 
-from fabric_dolfinx.synthetic import StiffeningLaw, synthetic_surface
+from fabric_dolfinx.synthetic import COTTON_LIKE_LAW, synthetic_surface
 from rve_rod.errors import InputError
+from rve_rod.homogenize.analytic import AnalyticRve
+from rve_rod.units import n_per_mm_to_gf_per_cm
 
-LAW = StiffeningLaw()
+LAW = COTTON_LIKE_LAW
 RNG = np.random.default_rng(2)
 
 
-def test_law_is_the_gradient_of_its_potentials():
-    E = RNG.uniform(-0.1, 0.3, size=(50, 3))
-    h = 1e-6
-    S = LAW.stress(E)
-    dpsi_11 = (LAW.potential(E[:, 0] + h, E[:, 1]) - LAW.potential(E[:, 0] - h, E[:, 1])) / (2 * h)
-    dpsi_22 = (LAW.potential(E[:, 0], E[:, 1] + h) - LAW.potential(E[:, 0], E[:, 1] - h)) / (2 * h)
-    dshear = (LAW.shear_potential(E[:, 2] + h) - LAW.shear_potential(E[:, 2] - h)) / (2 * h)
-    np.testing.assert_allclose(np.stack([dpsi_11, dpsi_22, dshear], axis=1), S, atol=1e-9)
+def test_cotton_like_law_has_the_documented_stresses():
+    # S11 = (k1 / b1) (exp(b1 E11) - 1) at E11 = 0.22: 0.01 (exp(2.64) - 1) = 0.1301 N/mm.
+    S = LAW.stress(np.array([[0.22, 0.0, 0.0], [0.0, 0.22, 0.0]]))
+    assert n_per_mm_to_gf_per_cm(S[0, 0]) == pytest.approx(132.7, rel=1e-3)
+    assert n_per_mm_to_gf_per_cm(S[1, 1]) == pytest.approx(163.7, rel=1e-3)
 
 
 @pytest.mark.parametrize("kind", ["stress", "energy"])
@@ -50,8 +49,10 @@ def test_stress_surface_interpolates_the_law_at_the_greville_points_up_to_the_sh
 @pytest.mark.parametrize(
     ("make", "message"),
     [
-        (lambda: StiffeningLaw(course_rate=-1.0), "course_rate=-1 must be > 0"),
-        (lambda: StiffeningLaw(coupling=1.0), "coupling=1 N/mm must satisfy |c| <"),
+        (
+            lambda: synthetic_surface(AnalyticRve(coupling_22_11=0.0), kind="energy"),
+            "kind='energy' needs a hyperelastic law: coupling_11_22=0.05 N/mm must equal",
+        ),
         (lambda: synthetic_surface(kind="spline"), "kind='spline' must be"),
         (lambda: synthetic_surface(normal_domain=(0.0, 0.3)), "must contain E = 0"),
     ],

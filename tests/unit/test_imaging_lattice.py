@@ -113,7 +113,7 @@ def face_photo():
     photo = SyntheticPhoto(
         1.26,
         0.88,
-        0.157,
+        0.19,
         angle_deg=8.0,
         pixels_per_mm=30.0,
         width_px=160,

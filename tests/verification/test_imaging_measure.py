@@ -20,13 +20,10 @@ ANGLE_TOLERANCE_DEG = 0.5
 
 
 def fabrics():
-    """(w, c, drawn yarn radius min(r0, w/8)) of the six cotton fabrics and Vassiliadis."""
+    """(w, c, r0) of the six cotton fabrics and Vassiliadis."""
     presets = [load_preset("cotton-20s2", stitch) for stitch in stitch_values("cotton-20s2")]
     presets.append(load_preset("vassiliadis-sample2"))
-    return [
-        (f.knit.wale_width, f.knit.course_height, min(f.yarn.minimal_radius, f.knit.wale_width / 8))
-        for f in presets
-    ]
+    return [(f.knit.wale_width, f.knit.course_height, f.yarn.minimal_radius) for f in presets]
 
 
 # Photo conditions: (angle_deg, blur_mm, noise, lighting, side), 512 x 512 px at 25 px/mm.
@@ -133,7 +130,7 @@ def test_centred_looking_pattern_reports_the_rectangular_cell():
 def test_small_photo_where_the_spectrum_alone_gives_half_a_wale():
     # 3.2 loops across: the odd harmonics drown, the spectrum's lattice is (w/2, c); the
     # real-space periodicity check doubles it.
-    w, c, r, scale = 1.26, 0.88, 0.157, 30.0
+    w, c, r, scale = 1.26, 0.88, 0.19, 30.0
     photo = SyntheticPhoto(
         w, c, r, pixels_per_mm=scale, width_px=120, height_px=84, noise=0.1, blur_mm=0.03, seed=32
     )
@@ -144,7 +141,7 @@ def test_small_photo_where_the_spectrum_alone_gives_half_a_wale():
 
 
 def test_colour_photo_measures_as_its_luma():
-    photo = SyntheticPhoto(1.33, 1.26, 0.166, angle_deg=5.0, width_px=256, height_px=256)
+    photo = SyntheticPhoto(1.33, 1.26, 0.19, angle_deg=5.0, width_px=256, height_px=256)
     gray = render_photo(photo)
     tint = np.array([0.9, 0.8, 0.6]) / (np.array([0.9, 0.8, 0.6]) @ [0.2126, 0.7152, 0.0722])
     colour = gray[..., None] * tint[None, None, :]
@@ -172,7 +169,7 @@ def test_large_photo_is_block_averaged_and_keeps_its_scale():
 
 
 def test_knit_from_a_photo_file(tmp_path):
-    photo = SyntheticPhoto(1.41, 1.64, 0.176, angle_deg=3.0, noise=0.05, blur_mm=0.02)
+    photo = SyntheticPhoto(1.41, 1.64, 0.19, angle_deg=3.0, noise=0.05, blur_mm=0.02)
     path = tmp_path / "knit.png"
     write_image(path, render_photo(photo))
     knit = knit_from_photo(path, photo.pixels_per_mm)
@@ -190,7 +187,7 @@ def test_photo_of_fewer_than_three_loops_is_refused(loops, scale, angle):
     photo = SyntheticPhoto(
         w,
         c,
-        0.166,
+        0.19,
         pixels_per_mm=scale,
         width_px=int(loops * w * scale),
         height_px=int(loops * c * scale),

@@ -1,6 +1,7 @@
 """The consistent tangent of the membrane: finite differences of the residual, quadratic Newton
 convergence, symmetry for energy surfaces (and Krylov solvers on it), cutback and failure."""
 
+import dataclasses
 import re
 
 import dolfinx.fem.petsc
@@ -11,7 +12,7 @@ from dolfinx import fem
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.membrane import membrane_forms
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.synthetic import StiffeningLaw, synthetic_surface
+from fabric_dolfinx.synthetic import COTTON_LIKE_LAW, synthetic_surface
 from fabric_dolfinx.tension import TensionSetup, TensionTest
 from rve_rod.errors import ConvergenceError
 from rve_rod.surface import ResponseSurface
@@ -22,7 +23,7 @@ SYMMETRIC = synthetic_surface(kind="stress")
 ASYMMETRIC = ResponseSurface(
     kind="stress",
     s11=SYMMETRIC.s11,
-    s22=synthetic_surface(StiffeningLaw(coupling=-0.01)).s22,
+    s22=synthetic_surface(dataclasses.replace(COTTON_LIKE_LAW, coupling_22_11=-0.01)).s22,
     s12=SYMMETRIC.s12,
 )
 STRESS = surface_material(ASYMMETRIC)
