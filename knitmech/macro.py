@@ -84,8 +84,9 @@ def run_patch(spec: PatchSpec, surface_path: Path, folder: Path, comm=MPI.COMM_W
     Returns the summary: strain, force (gf/cm, N/mm), the force of the material alone in
     homogeneous uniaxial tension (gf/cm, what the RVE's uniaxial case gives when the surface
     reproduces it), lateral strain and Poisson ratio per step, Newton iterations, cutbacks,
-    whether strains left the surface domain, DOFs, ranks, times, and `complete` (False when
-    the solver gave up; the converged steps are kept).
+    whether strains left the surface domain, DOFs, ranks, times, `complete` (False when the
+    solver gave up; the converged steps are kept) and `force_positive` (False flags a spurious
+    equilibrium, e.g. on a surface that softens).
     """
     folder = Path(folder)
     if comm.rank == 0:
@@ -125,6 +126,14 @@ def run_patch(spec: PatchSpec, surface_path: Path, folder: Path, comm=MPI.COMM_W
     except ConvergenceError as error:
         result, message = error.history, str(error)
     strain = result.strain
+    pulled = result.force_gf_per_cm[1:]
+    if np.any(pulled <= 0.0):
+        logger.warning(
+            "macro %s: the clamp force is not positive at strain %.3g: not a physical solution "
+            "(see the surface's softest_tangents in summary.json)",
+            spec.direction,
+            strain[1:][np.argmax(pulled <= 0.0)],
+        )
     alone = [0.0] + [_material_alone(surface, value, spec.direction) for value in strain[1:]]
     lateral_strain = np.array(lateral[: strain.size])
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -132,6 +141,7 @@ def run_patch(spec: PatchSpec, surface_path: Path, folder: Path, comm=MPI.COMM_W
     return {
         "direction": spec.direction,
         "complete": not message,
+        "force_positive": bool(np.all(pulled > 0.0)),
         "message": message,
         "strain": strain,
         "force_gf_per_cm": result.force_gf_per_cm,

@@ -19,6 +19,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import NamedTuple, TextIO
 
+import numpy as np
+
 from knitmech.fidelity import Fidelity
 from knitmech.scene import Scene
 from knitmech.stage_cache import Stage
@@ -250,12 +252,40 @@ def given_surface(path: Path, folder: Path) -> dict:
 
 
 def surface_summary(surface) -> dict:
-    """Kind, domain and residuals of a surface."""
+    """Kind, domain, residuals and softest normal stiffness of a surface (warned if < 0)."""
+    softest = softest_normal_tangents(surface)
+    for name, entry in softest.items():
+        if entry["value"] < 0.0:
+            logger.warning(
+                "the surface loses stiffness: %s = %.3g N/mm at E = (%.3g, %.3g); a patch "
+                "that reaches such strains may find a spurious equilibrium",
+                name,
+                entry["value"],
+                *entry["strain"],
+            )
     return {
         "kind": surface.kind,
         "domain": surface.domain.tolist(),
         "residuals": {k: v._asdict() for k, v in surface.residual_stats().items()},
+        "softest_tangents": softest,
     }
+
+
+def softest_normal_tangents(surface, points_per_axis: int = 41) -> dict:
+    """The smallest dS11/dE11 and dS22/dE22 (N/mm) on a grid over the (E11, E22) domain and
+    the strain (E11, E22) where each occurs: a negative value means the fitted material
+    softens there, where a membrane has no unique equilibrium."""
+    (x_low, x_high), (y_low, y_high) = surface.domain[:2]
+    x, y = np.meshgrid(
+        np.linspace(x_low, x_high, points_per_axis), np.linspace(y_low, y_high, points_per_axis)
+    )
+    strain = np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
+    tangent = surface.stress(strain).tangent
+    softest = {}
+    for index, name in enumerate(("dS11/dE11", "dS22/dE22")):
+        at = int(np.argmin(tangent[:, index, index]))
+        softest[name] = {"value": tangent[at, index, index], "strain": strain[at, :2]}
+    return softest
 
 
 def _report_dict(report) -> dict:

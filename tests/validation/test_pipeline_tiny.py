@@ -3,13 +3,16 @@ directions, an interrupted run resuming from what finished, and a cached rerun d
 work (all judged from the stage records, not from timings).
 
 The tiny scene: cotton 20s/2 at stitch 5.5, 20 control points per quarter loop, the RVE to
-10 % in 2.5 % steps, 16 rays of 5 steps (to 12 % tension, 6 % compression) and shear to 10 %,
-a 50 mm patch on 4 x 4 elements in 4 steps to 10 %.
+10 % in 2.5 % steps, 24 rays of 5 steps (to 12 % tension, 6 % compression; the fast level's
+rays) and shear to 10 %, a 50 mm patch on 4 x 4 elements in 4 steps to 10 %. With 16 rays the
+fitted dS22/dE22 at E = 0 came out slightly negative (the knit is almost free laterally there)
+and the course-wise patch found a spurious equilibrium: the pipeline warns about both
+(`softest_tangents`, `force_positive`), and this scene keeps the level's sampling.
 
 Tolerances, and why:
 * surface alone against the RVE, 10 %: the fitted surface, loaded in homogeneous uniaxial
   tension, must give the RVE's uniaxial force within 6 %. It is fitted to biaxial rays, not to
-  the uniaxial path (16 rays of 5 steps here); the default scene at balanced fidelity is
+  the uniaxial path (24 rays of 5 steps here); the default scene at balanced fidelity is
   within 2 % (docs/pipeline.md), this scene within 2 % too.
 * patch against surface alone: the clamps hold the patch ends at lateral stretch 1, so the patch
   is stiffer than the material in uniaxial tension (lower bound 0), and a square patch stays
@@ -35,7 +38,7 @@ TINY = {
     "fidelity": "fast",
     "fabric": {"preset": "cotton-20s2", "stitch": 5.5},
     "meso": {"max_strain": 0.1, "steps": 5, "control_points": 20},
-    "surface": {"rays": 16, "max_strain": 0.12, "max_compression": 0.06, "shear_max_strain": 0.1},
+    "surface": {"rays": 24, "max_strain": 0.12, "max_compression": 0.06, "shear_max_strain": 0.1},
     "macro": {"elements": 4, "max_strain": 0.1, "steps": 4},
 }
 SURFACE_ALONE_TOLERANCE = 0.06
