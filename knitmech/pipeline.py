@@ -49,7 +49,7 @@ from rve_rod import __version__
 from rve_rod.cache import ResultCache
 from rve_rod.cli.common import to_jsonable
 from rve_rod.cli.surface import default_cache_dir as default_runs_dir
-from rve_rod.errors import InputError
+from rve_rod.errors import InputError, check_integer
 from rve_rod.surface import read_surface
 
 logger = logging.getLogger(__name__)
@@ -120,6 +120,7 @@ def run_scene(
         SceneError: the scene cannot run (before anything is computed).
     """
     started = time.perf_counter()
+    check_integer("jobs", jobs, 1, 256)
     plan = plan_run(scene, fidelity_level(fidelity or scene.fidelity))
     check_plan(plan)
     cache_dir = Path(cache_dir) if cache_dir is not None else default_cache_dir()

@@ -67,3 +67,10 @@ def test_usage_errors_exit_2_with_one_line(tmp_path, capsys):
     assert len(capsys.readouterr().err.strip().splitlines()) == 1
     assert main(["run", str(tmp_path / "absent.toml")]) == 2
     assert "cannot be read" in capsys.readouterr().err
+    status, lines = run(
+        tmp_path, '[fabric]\npreset = "cotton-20s2"\nstitch = 5.5\n', capsys, "--jobs", "0"
+    )
+    assert status == 2 and lines == [
+        "knitmech run: error: jobs=0 is outside the valid range [1, 256]"
+    ]
+    assert nothing_written(tmp_path)
