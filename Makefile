@@ -13,7 +13,7 @@ bootstrap:
 	@scripts/bootstrap.sh
 
 demo: bootstrap
-	$(BIN)/rve-rod geometry --preset cotton-20s2 --stitch 5.5 --plot results/loop.png --vtk results/loop.vtu
+	$(BIN)/knitmech run -o results
 
 lint: bootstrap
 	$(BIN)/ruff check .

@@ -8,6 +8,9 @@ so the force equals the serial one to round-off:
 
     mpirun -n 2 python demos/demo_parallel.py [--elements 200] [--steps 5]
         [--linear-solver lu|gmres] [--surface surface.h5]
+
+The material is, by default, the cotton 20s/2, stitch 5.5 response surface that `knitmech run`
+makes for its default scene (shipped with the package).
 """
 
 import argparse
@@ -17,20 +20,20 @@ from mpi4py import MPI
 
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.synthetic import synthetic_surface
 from fabric_dolfinx.tension import TensionSetup, TensionTest
+from knitmech.scene import default_surface_path
 from rve_rod.surface import read_surface
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--elements", type=int, default=200, help="elements per side")
 parser.add_argument("--steps", type=int, default=5, help="load steps to 10 %%")
 parser.add_argument("--linear-solver", default="lu", help="lu (MUMPS), gmres or cg")
-parser.add_argument("--surface", help="response-surface file (default: synthetic surface)")
+parser.add_argument("--surface", help="response-surface file (default: cotton, from knitmech)")
 args = parser.parse_args()
 comm = MPI.COMM_WORLD
 
-# The synthetic surface of the tension demo, built in memory by every rank (same numbers).
-surface = read_surface(args.surface) if args.surface else synthetic_surface()
+# Every rank reads the surface file (small).
+surface = read_surface(args.surface or default_surface_path())
 material = surface_material(surface)
 
 # Mesh generation (gmsh on rank 0, then partitioning) and form compilation are timed apart

@@ -3,14 +3,17 @@
 A 50 x 50 mm fabric patch on 10 x 10 quadrilateral membrane elements is stretched to 20 %
 between clamps: course-wise the left edge is clamped and the right edge moved along x;
 wale-wise the bottom edge is clamped and the top edge moved along y. The material is a
-response surface (the homogenized knit); the demo prints and plots the force per width in
-gf/cm against the strain, beside what the material alone gives in homogeneous uniaxial
-tension (and beside an RVE curve when one is given), and it writes the stress fields at 10 %
-(course) and 9 % (wale) like the paper's Figure 8, as PNG and as XDMF for ParaView.
+response surface (the homogenized knit): by default the cotton 20s/2, stitch 5.5 surface that
+`knitmech run` makes for its default scene (shipped with the package, see docs/pipeline.md;
+`knitmech run` itself also runs this test, beside the RVE). The demo prints and plots the
+force per width in gf/cm against the strain, beside what the material alone gives in
+homogeneous uniaxial tension (and beside an RVE curve when one is given), and it writes the
+stress fields at 10 % (course) and 9 % (wale) like the paper's Figure 8, as PNG and as XDMF
+for ParaView.
 
 Run it serially or in parallel; every option has a default:
 
-    python demos/demo_patch_tension.py [--surface surface.h5] [--rve-curve rve.json]
+    python demos/demo_patch_tension.py [--surface results/surface.h5] [--rve-curve rve.json]
         [--elements 10] [--steps 20] [--output results/patch_tension]
     mpirun -n 2 python demos/demo_patch_tension.py
 """
@@ -25,13 +28,15 @@ from fabric_dolfinx.io import read_rve_curve
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.plot import plot_cell_field, plot_force_strain
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.synthetic import COTTON_LIKE_LAW, synthetic_surface
 from fabric_dolfinx.tension import TensionSetup, TensionTest, homogeneous_response
-from rve_rod.surface import read_surface, write_surface
+from knitmech.scene import default_surface_path
+from rve_rod.surface import read_surface
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-parser.add_argument("--surface", help="response-surface file (default: a synthetic surface)")
+parser.add_argument(
+    "--surface", help="response-surface file (default: cotton 20s/2, stitch 5.5, from knitmech)"
+)
 parser.add_argument("--rve-curve", help="JSON with the RVE's uniaxial strain, force_gf_per_cm")
 parser.add_argument("--elements", type=int, default=10, help="elements per side")
 parser.add_argument("--steps", type=int, default=20, help="load steps to 20 %%")
@@ -43,15 +48,9 @@ if comm.rank == 0:
     output.mkdir(parents=True, exist_ok=True)
 comm.barrier()
 
-# Until the RVE produces real surfaces, the material is the B-spline interpolant (degree 2,
-# as in the paper) of an analytic stiffening law, S11 = (k1 / b1) (exp(b1 E11) - 1) + c E22
-# and alike across (rve_rod.homogenize.analytic, with the cotton-like parameters of
-# fabric_dolfinx.synthetic). It goes through the surface file, as a real surface would:
-# written by rank 0, read back by every rank.
-surface_path = Path(args.surface) if args.surface else output / "synthetic_surface.h5"
-if not args.surface and comm.rank == 0:
-    write_surface(surface_path, synthetic_surface(COTTON_LIKE_LAW, kind="stress"))
-comm.barrier()
+# The surface file is the only thing the fabric scale takes from the yarn scale; every rank
+# reads it. The default one was made from rod-RVE runs of the cotton fabric by `knitmech run`.
+surface_path = Path(args.surface) if args.surface else default_surface_path()
 surface = read_surface(surface_path)
 material = surface_material(surface, name=surface_path.name)
 

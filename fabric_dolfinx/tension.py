@@ -279,14 +279,34 @@ def homogeneous_response(
 
         lateral_strain = 0.0
         if lateral == "free":
-            try:
-                lateral_strain = scipy.optimize.brentq(
-                    lambda e, stress=stress: stress(e)[other], -0.5, 0.5, xtol=1e-15
-                )
-            except ValueError:
-                raise InputError(
-                    f"at strain {value:.4g} no lateral strain in [-0.5, 0.5] makes the "
-                    "lateral stress vanish"
-                ) from None
+            lateral_strain = _free_lateral_strain(lambda e, stress=stress: stress(e)[other], value)
         forces.append((1.0 + value) * stress(lateral_strain)[axis])
     return np.array(forces)
+
+
+_LATERAL_LIMIT = 0.5
+"""Largest |E| searched for the free lateral strain."""
+_LATERAL_SCAN = 0.01
+"""Step of the scan outward from E = 0 for a sign change of the lateral stress."""
+
+
+def _free_lateral_strain(lateral_stress, strain: float) -> float:
+    """The lateral Green-Lagrange strain nearest to 0 at which `lateral_stress` vanishes.
+
+    Scans outward from 0 on both sides for the first sign change, then solves with Brent's
+    method: a fitted surface may turn over far outside its data (its linear extension), so
+    a root there must not be taken for the physical one nearer to the reference state.
+    """
+    at_zero = lateral_stress(0.0)
+    if at_zero == 0.0:
+        return 0.0
+    for step in range(1, round(_LATERAL_LIMIT / _LATERAL_SCAN) + 1):
+        for sign in (-1.0, 1.0):
+            end = sign * step * _LATERAL_SCAN
+            start = end - sign * _LATERAL_SCAN
+            if np.sign(lateral_stress(end)) != np.sign(lateral_stress(start)):
+                return scipy.optimize.brentq(lateral_stress, *sorted((start, end)), xtol=1e-15)
+    raise InputError(
+        f"at strain {strain:.4g} no lateral strain in [-{_LATERAL_LIMIT}, {_LATERAL_LIMIT}] "
+        "makes the lateral stress vanish"
+    )

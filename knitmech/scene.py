@@ -3,18 +3,23 @@
 A scene names the fabric (a preset or explicit yarn and knit), the meso-scale RVE runs wanted,
 the response-surface sampling and the fabric-scale problem. Every problem found while reading
 is collected, and `SceneError` reports all of them at once, one line each, naming the key.
-Settings left out of a scene come from its fidelity level (`knitmech.fidelity`).
+Settings left out of a scene come from its fidelity level (`knitmech.fidelity`); docs/pipeline.md
+describes the format.
 """
 
+import argparse
+import json
 import math
 import tomllib
-from dataclasses import dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields, replace
 from importlib.resources import files
 from pathlib import Path
 from typing import Any
 
+from knitmech.fidelity import DEFAULT, LEVELS, Fidelity
+from rve_rod.cli.common import fabric_from_args
 from rve_rod.errors import InputError
-from rve_rod.presets import load_preset
+from rve_rod.presets import Fabric, load_preset
 
 MESO_CASES = (
     "uniaxial-course",
@@ -26,9 +31,12 @@ MESO_CASES = (
 """Meso-scale load cases a scene may ask for by name (design.md); biaxial rays come from
 the surface sampling."""
 
+DEFAULT_SURFACE = "cotton-20s2_stitch-5.5.h5"
+"""File name of the default scene's surface in knitmech/data."""
+
 DIRECTIONS = ("course", "wale")
 SURFACE_KINDS = ("stress", "energy")
-FIDELITY_NAMES = ("fast", "balanced", "accurate")
+FIDELITY_NAMES = tuple(LEVELS)
 
 
 class SceneError(InputError):
@@ -83,7 +91,8 @@ class SurfaceSpec:
         kind: "stress" (the paper's stress surfaces) or "energy" (hyperelastic potential).
         path: an existing surface file; when given nothing is sampled.
         rays: number of biaxial rays; None takes the fidelity level's.
-        max_strain: largest engineering strain along the rays (-).
+        max_strain: largest engineering strain along the rays, in tension (-).
+        max_compression: largest engineering strain along the rays, in compression (-).
         shear_max_strain: largest shear strain of the pure-shear run (-).
     """
 
@@ -91,6 +100,7 @@ class SurfaceSpec:
     path: str | None = None
     rays: int | None = None
     max_strain: float = 0.20
+    max_compression: float = 0.10
     shear_max_strain: float = 0.30
 
 
@@ -119,10 +129,10 @@ class MacroSpec:
 
 @dataclass(frozen=True)
 class Scene:
-    """A whole study; see the module docstring and docs/scene.md."""
+    """A whole study; see the module docstring and docs/pipeline.md."""
 
     name: str = "scene"
-    fidelity: str = "balanced"
+    fidelity: str = DEFAULT
     fabric: FabricSpec = field(default_factory=FabricSpec)
     meso: MesoSpec = field(default_factory=MesoSpec)
     surface: SurfaceSpec = field(default_factory=SurfaceSpec)
@@ -132,10 +142,44 @@ class Scene:
         """The scene as plain data (lists for tuples, no None), for TOML/JSON records."""
         return _to_plain(self)
 
+    def to_toml(self) -> str:
+        """The scene as TOML text that `load_scene` reads back to an equal scene."""
+        data = self.to_dict()
+        lines = [f"{key} = {_toml_value(data[key])}" for key in ("name", "fidelity")]
+        for section in ("fabric", "meso", "surface", "macro"):
+            lines += ["", f"[{section}]"]
+            lines += [f"{key} = {_toml_value(value)}" for key, value in data[section].items()]
+        return "\n".join(lines) + "\n"
+
+    def resolved(self, level: Fidelity) -> "Scene":
+        """The scene with every setting it leaves to the fidelity level taken from `level`."""
+
+        def fill(spec, **defaults):
+            return replace(spec, **{k: v for k, v in defaults.items() if getattr(spec, k) is None})
+
+        return replace(
+            self,
+            fidelity=level.name,
+            meso=fill(self.meso, steps=level.meso_steps, control_points=level.control_points),
+            surface=fill(self.surface, rays=level.rays),
+            macro=fill(self.macro, elements=level.elements, steps=level.macro_steps),
+        )
+
+    def fabric_model(self) -> Fabric:
+        """The yarn and knit of the scene: the preset's values with the explicit ones on top."""
+        # the same rule as the rve-rod options (--preset, --stitch, --wale-width, ...)
+        return fabric_from_args(argparse.Namespace(**asdict(self.fabric)))
+
 
 def default_scene_path() -> Path:
     """Path of the built-in default scene (cotton 20s/2, stitch 5.5, 50 mm patch)."""
     return Path(str(files("knitmech").joinpath("data/default_scene.toml")))
+
+
+def default_surface_path() -> Path:
+    """The response surface of the default scene as `knitmech run` made it at the default
+    fidelity (shipped for the demos; docs/pipeline.md says how it is remade)."""
+    return Path(str(files("knitmech").joinpath(f"data/{DEFAULT_SURFACE}")))
 
 
 def load_scene(path: str | Path | None = None) -> Scene:
@@ -214,6 +258,7 @@ _TYPES: dict[str, dict[str, tuple[type, ...]]] = {
         "path": (str,),
         "rays": (int,),
         "max_strain": (float,),
+        "max_compression": (float,),
         "shear_max_strain": (float,),
     },
     "macro": {
@@ -260,13 +305,18 @@ def _check_values(parts: dict, problems: list[str], base: Path | None) -> None:
         problems.append(f"fabric.poissons_ratio: {fabric.poissons_ratio} is outside [0, 0.5)")
     if fabric.friction is not None and fabric.friction < 0:
         problems.append(f"fabric.friction: {fabric.friction} must be >= 0")
+    # a preset or stitch of the wrong type is reported once, not again as unknown or missing
+    reported = {
+        key for key in ("preset", "stitch") if any(p.startswith(f"fabric.{key}:") for p in problems)
+    }
     if fabric.preset is not None:
-        try:
-            load_preset(fabric.preset, fabric.stitch)
-        except InputError as error:
-            key = "fabric.stitch" if "stitch" in str(error) else "fabric.preset"
-            problems.append(f"{key}: {error}")
-    else:
+        if "stitch" not in reported:
+            try:
+                load_preset(fabric.preset, fabric.stitch)
+            except InputError as error:
+                key = "fabric.stitch" if "stitch" in str(error) else "fabric.preset"
+                problems.append(f"{key}: {error}")
+    elif "preset" not in reported:
         for key in ("wale_width", "course_height", "yarn_radius", "youngs_modulus"):
             if getattr(fabric, key) is None:
                 problems.append(f"fabric.{key}: required when fabric.preset is not given")
@@ -282,10 +332,10 @@ def _check_values(parts: dict, problems: list[str], base: Path | None) -> None:
         path = Path(surface.path) if base is None else base / surface.path
         if not path.is_file():
             problems.append(f"surface.path: no such file {path}")
-    ranges = (
+    ranges = (  # key, value, low, high: low < value <= high
         ("meso.max_strain", meso.max_strain, 0.0, 1.0),
-        ("surface.max_strain", surface.max_strain, 0.0, 1.0),
-        ("surface.shear_max_strain", surface.shear_max_strain, 0.0, 1.0),
+        ("surface.max_strain", surface.max_strain, 0.0, 0.8),
+        ("surface.shear_max_strain", surface.shear_max_strain, 0.0, 0.8),
         ("macro.max_strain", macro.max_strain, 0.0, 1.0),
         ("macro.size", macro.size, 0.0, math.inf),
         ("macro.angle", macro.angle, -360.0, 360.0),
@@ -293,6 +343,11 @@ def _check_values(parts: dict, problems: list[str], base: Path | None) -> None:
     for key, value, low, high in ranges:
         if not low < value <= high:
             problems.append(f"{key}: {value} is outside the valid range ({low}, {high}]")
+    if not 0.0 <= surface.max_compression <= 0.5:
+        problems.append(
+            f"surface.max_compression: {surface.max_compression} is outside the valid range "
+            "[0.0, 0.5]"
+        )
     minimums = (
         ("meso.steps", meso.steps, 2),
         ("meso.control_points", meso.control_points, 12),
@@ -304,6 +359,14 @@ def _check_values(parts: dict, problems: list[str], base: Path | None) -> None:
     for key, value, low in minimums:
         if value is not None and value < low:
             problems.append(f"{key}: {value} must be >= {low}")
+
+
+def _toml_value(value: Any) -> str:
+    if isinstance(value, list):
+        return "[" + ", ".join(_toml_value(item) for item in value) + "]"
+    if isinstance(value, str):
+        return json.dumps(value)  # a TOML basic string uses the same escapes
+    return repr(value)
 
 
 def _describe(value: Any) -> str:

@@ -2,7 +2,11 @@
 
 import pytest
 
+from knitmech.fidelity import LEVELS
 from knitmech.scene import SceneError, load_scene, scene_from_dict
+from rve_rod.presets import load_preset
+
+COTTON = {"fabric": {"preset": "cotton-20s2", "stitch": 5.5}}
 
 
 def test_default_scene_is_the_cotton_patch():
@@ -64,3 +68,49 @@ def test_unreadable_and_invalid_toml_files(tmp_path):
     broken.write_text("name = \n")
     with pytest.raises(Exception, match="not valid TOML"):
         load_scene(broken)
+
+
+def test_toml_text_reads_back_to_the_same_scene(tmp_path):
+    scene = load_scene().resolved(LEVELS["fast"])
+    path = tmp_path / "scene.toml"
+    path.write_text(scene.to_toml())
+    assert load_scene(path) == scene
+
+
+def test_fidelity_fills_only_what_the_scene_leaves_out():
+    scene = scene_from_dict(
+        {"fabric": {"preset": "cotton-20s2", "stitch": 5.5}, "meso": {"steps": 7}}
+    )
+    level = LEVELS["accurate"]
+    resolved = scene.resolved(level)
+    assert resolved.meso.steps == 7
+    assert resolved.meso.control_points == level.control_points
+    assert resolved.surface.rays == level.rays
+    assert (resolved.macro.elements, resolved.macro.steps) == (level.elements, level.macro_steps)
+    assert resolved.fidelity == "accurate"
+
+
+def test_explicit_fabric_values_override_the_preset():
+    scene = scene_from_dict(
+        {"fabric": {"preset": "cotton-20s2", "stitch": 5.5, "yarn_radius": 0.15, "friction": 0.0}}
+    )
+    fabric = scene.fabric_model()
+    preset = load_preset("cotton-20s2", 5.5)
+    assert fabric.yarn.minimal_radius == 0.15
+    assert fabric.yarn.friction_coefficient == 0.0
+    assert fabric.knit == preset.knit
+    assert fabric.yarn.youngs_modulus == preset.yarn.youngs_modulus
+
+
+def test_compression_limit_may_be_zero_but_not_negative():
+    assert (
+        scene_from_dict({"surface": {"max_compression": 0}, **COTTON}).surface.max_compression == 0
+    )
+    with pytest.raises(SceneError, match=r"surface.max_compression: -0.1 is outside"):
+        scene_from_dict({"surface": {"max_compression": -0.1}, **COTTON})
+
+
+def test_a_preset_of_the_wrong_type_is_one_problem():
+    with pytest.raises(SceneError) as caught:
+        scene_from_dict({"fabric": {"preset": 5, "stitch": 5.5}})
+    assert caught.value.problems == ["fabric.preset: expected str, got int 5"]

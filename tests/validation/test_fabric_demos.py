@@ -12,8 +12,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fabric_dolfinx.synthetic import synthetic_surface
 from fabric_dolfinx.tension import homogeneous_response
+from knitmech.scene import default_surface_path
+from rve_rod.surface import read_surface
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
 DEMOS = Path(__file__).resolve().parents[2] / "demos"
@@ -59,7 +60,7 @@ def test_demo_patch_tension_writes_figures_and_bounded_forces(patch_tension_runs
         assert (output / name).is_file()
     strain = np.array(summary["strain"])
     assert strain[-1] == pytest.approx(0.2) and strain.size == 21
-    surface = synthetic_surface()
+    surface = read_surface(default_surface_path())  # the demo's default: cotton from knitmech
     for direction in ("course", "wale"):
         force = np.array(summary[f"{direction}_force_gf_per_cm"])[1:]
         uniaxial = n_per_mm_to_gf_per_cm(homogeneous_response(surface, strain[1:], direction))

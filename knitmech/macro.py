@@ -1,0 +1,184 @@
+"""The macro stage: the patch tension test of a scene on its response surface (DOLFINx).
+
+`run_patch` runs one direction (`fabric_dolfinx.tension`), writes the XDMF file of every step
+(`paraview/patch_<direction>.xdmf` with its `.h5`) and the stress map of the paper's
+Figure 8 (`figures/stress_<direction>.png`), and measures the patch's lateral contraction
+across its middle (the effective Poisson ratio of the clamped patch). It is collective under
+MPI; the pipeline runs it in-process on one rank, or as
+
+    mpirun -n N python -m knitmech.macro PATCH.json SURFACE.h5 FOLDER SUMMARY.json
+
+which rank 0 ends by writing the summary.
+"""
+
+import json
+import logging
+import sys
+from pathlib import Path
+
+import numpy as np
+from dolfinx import fem, geometry
+from mpi4py import MPI
+
+from fabric_dolfinx.material import surface_material
+from fabric_dolfinx.plot import plot_cell_field
+from fabric_dolfinx.solve import SolverOptions
+from fabric_dolfinx.tension import (
+    DIRECTIONS,
+    TensionSetup,
+    TensionTest,
+    homogeneous_response,
+)
+from knitmech.stages import PatchSpec
+from rve_rod.cli.common import to_jsonable
+from rve_rod.errors import ConvergenceError, InputError
+from rve_rod.surface import read_surface
+from rve_rod.units import n_per_mm_to_gf_per_cm
+
+logger = logging.getLogger(__name__)
+
+STRESS_COMPONENT = {"course": (0, 0), "wale": (1, 1)}
+"""The Cauchy stress component drawn for each direction (along the load)."""
+
+
+class MidlineProbe:
+    """Lateral strain across the middle of the patch: the change of distance between the
+    midpoints of the two free edges over the patch size (-), evaluated on every rank that holds
+    them (collective)."""
+
+    def __init__(self, u: fem.Function, size: float, direction: str):
+        load_axis = DIRECTIONS[direction][2]
+        self.axis = 1 - load_axis
+        self.size = size
+        points = np.zeros((2, 3))
+        points[:, load_axis] = size / 2
+        points[1, self.axis] = size
+        mesh = u.function_space.mesh
+        tree = geometry.BoundingBoxTree(mesh, mesh.topology.dim)
+        candidates = geometry.compute_collisions(tree, points)
+        colliding = geometry.compute_colliding_cells(mesh, candidates, points)
+        self.found = [len(colliding.links(i)) > 0 for i in range(2)]
+        self.cells = [colliding.links(i)[0] if self.found[i] else -1 for i in range(2)]
+        self.points = points
+        self.u = u
+
+    def __call__(self) -> float:
+        """The lateral strain at the current displacement (the same on every rank)."""
+        comm = self.u.function_space.mesh.comm
+        values = [
+            float(self.u.eval(self.points[i], [self.cells[i]])[self.axis])
+            if self.found[i]
+            else None
+            for i in range(2)
+        ]
+        gathered = comm.allgather(values)
+        first, second = (
+            next(rank[i] for rank in gathered if rank[i] is not None) for i in range(2)
+        )
+        return (second - first) / self.size
+
+
+def run_patch(spec: PatchSpec, surface_path: Path, folder: Path, comm=MPI.COMM_WORLD) -> dict:
+    """Run the tension test `spec` on the surface file; files go into `folder`.
+
+    Returns the summary: strain, force (gf/cm, N/mm), the force of the material alone in
+    homogeneous uniaxial tension (gf/cm, what the RVE's uniaxial case gives when the surface
+    reproduces it), lateral strain and Poisson ratio per step, Newton iterations, cutbacks,
+    whether strains left the surface domain, DOFs, ranks, times, `complete` (False when the
+    solver gave up; the converged steps are kept) and `force_positive` (False flags a spurious
+    equilibrium, e.g. on a surface that softens).
+    """
+    folder = Path(folder)
+    if comm.rank == 0:
+        for part in ("figures", "paraview"):
+            (folder / part).mkdir(exist_ok=True)
+    comm.barrier()
+    surface = read_surface(surface_path)
+    material = surface_material(surface, name=Path(surface_path).name)
+    test = TensionTest(
+        direction=spec.direction,
+        size=spec.size,
+        elements=spec.elements,
+        max_strain=spec.max_strain,
+        angle=spec.angle,
+        element_degree=spec.element_degree,
+    )
+    setup = TensionSetup(material, test, SolverOptions(steps=spec.steps), comm)
+    probe = MidlineProbe(setup.u, spec.size, spec.direction)
+    lateral = [0.0]
+    field_strain = spec.field_step * spec.max_strain / spec.steps
+
+    def on_step(strain, fields):
+        lateral.append(probe())
+        if abs(strain - field_strain) < 1e-9:
+            plot_cell_field(
+                fields,
+                folder / "figures" / f"stress_{spec.direction}.png",
+                component=STRESS_COMPONENT[spec.direction],
+                title=f"{spec.direction}-wise tension, {100 * strain:.3g} % strain",
+            )
+
+    message = ""
+    try:
+        result = setup.run(
+            xdmf=folder / "paraview" / f"patch_{spec.direction}.xdmf", on_step=on_step
+        )
+    except ConvergenceError as error:
+        result, message = error.history, str(error)
+    strain = result.strain
+    pulled = result.force_gf_per_cm[1:]
+    if np.any(pulled <= 0.0):
+        logger.warning(
+            "macro %s: the clamp force is not positive at strain %.3g: not a physical solution "
+            "(see the surface's softest_tangents in summary.json)",
+            spec.direction,
+            strain[1:][np.argmax(pulled <= 0.0)],
+        )
+    alone = [0.0] + [_material_alone(surface, value, spec.direction) for value in strain[1:]]
+    lateral_strain = np.array(lateral[: strain.size])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        poisson = np.where(strain > 0, -lateral_strain / strain, np.nan)
+    return {
+        "direction": spec.direction,
+        "complete": not message,
+        "force_positive": bool(np.all(pulled > 0.0)),
+        "message": message,
+        "strain": strain,
+        "force_gf_per_cm": result.force_gf_per_cm,
+        "force_n_per_mm": result.force_n_per_mm,
+        "material_uniaxial_gf_per_cm": alone,
+        "lateral_strain": lateral_strain,
+        "poisson_ratio": poisson,
+        "newton_iterations": result.newton_iterations,
+        "cutbacks": result.cutbacks,
+        "outside_domain": result.outside_domain,
+        "dofs": result.dofs,
+        "ranks": result.ranks,
+        "solve_time_s": result.wall_time_s,
+        "field_strain": field_strain,
+    }
+
+
+def _material_alone(surface, strain: float, direction: str) -> float | None:
+    """The material's own force in homogeneous uniaxial tension (gf/cm); None where no lateral
+    strain makes the lateral stress vanish (a fit that is not monotone far outside its data)."""
+    try:
+        force = homogeneous_response(surface, np.array([strain]), direction)[0]
+    except InputError as error:
+        logger.warning("material alone, %s-wise: %s", direction, error)
+        return None
+    return float(n_per_mm_to_gf_per_cm(force))
+
+
+def main(argv: list[str]) -> int:
+    """`python -m knitmech.macro PATCH.json SURFACE.h5 FOLDER SUMMARY.json` (see module)."""
+    request, surface_path, folder, summary_path = argv
+    spec = PatchSpec(**json.loads(Path(request).read_text()))
+    summary = run_patch(spec, Path(surface_path), Path(folder))
+    if MPI.COMM_WORLD.rank == 0:
+        Path(summary_path).write_text(json.dumps(to_jsonable(summary)))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,206 @@
+"""The main job: run a scene from the yarn to the fabric patch into a results folder.
+
+    geometry -> meso (RVE load cases) -> surface (RVE runs, fit, file) -> macro (patch tension)
+
+Every stage goes through the content-addressed stage cache (`knitmech.stage_cache`): a stage
+whose inputs did not change is taken from the cache, and a run that was interrupted resumes
+after the last stage (and, within the surface stage, the last RVE run) that finished. Only
+what the scene asks for is run: its meso load cases, its patch directions, and no surface
+runs when the scene gives a surface file. The scene is checked before anything is computed;
+the geometry stage, the cheapest, also checks that a loop fits the knit.
+
+The results folder holds `summary.json`, `summary.txt` (the printed table), `scene.toml`
+(the scene as run, every setting filled in), `surface.h5`, `figures/*.png`, `paraview/*`
+and `meso/*.json` (docs/pipeline.md).
+"""
+
+import dataclasses
+import datetime
+import json
+import logging
+import shutil
+import time
+from pathlib import Path
+from typing import NamedTuple, TextIO
+
+from knitmech.fidelity import fidelity_level
+from knitmech.report import (
+    compare_forces,
+    plot_comparison,
+    poisson_ratios,
+    stage_timings,
+    summary_table,
+)
+from knitmech.scene import Scene, SceneError
+from knitmech.stage_cache import GIVEN, Stage, StageCache, StageRecord
+from knitmech.stages import (
+    SURFACE_FIGURE,
+    SURFACE_FILE,
+    RunPlan,
+    SurfaceRuns,
+    geometry_stage,
+    given_surface,
+    macro_stages,
+    meso_stages,
+    plan_run,
+    surface_stage,
+)
+from rve_rod import __version__
+from rve_rod.cache import ResultCache
+from rve_rod.cli.common import to_jsonable
+from rve_rod.cli.surface import default_cache_dir as default_runs_dir
+from rve_rod.errors import InputError, check_integer
+from rve_rod.surface import read_surface
+
+logger = logging.getLogger(__name__)
+
+SUMMARY_FILE = "summary.json"
+
+
+class PipelineResult(NamedTuple):
+    """A finished run.
+
+    Attributes:
+        plan: the resolved settings.
+        folder: the results folder.
+        summary: the content of summary.json.
+        records: what happened to each stage (computed, cached or given) and its time.
+        table: the printed summary (also in summary.txt).
+    """
+
+    plan: RunPlan
+    folder: Path
+    summary: dict
+    records: tuple[StageRecord, ...]
+    table: str
+
+
+def default_cache_dir() -> Path:
+    """$XDG_CACHE_HOME/knitmech (or ~/.cache/knitmech): `stages/` and `rve-runs/` (the
+    latter shared with `rve-rod surface`)."""
+    return default_runs_dir().parent
+
+
+def check_plan(plan: RunPlan) -> None:
+    """Problems a scene file alone does not show: an unreadable surface file, no mpirun.
+
+    Raises SceneError listing every problem (one per key)."""
+    problems = []
+    if plan.scene.surface.path is not None:
+        try:
+            read_surface(plan.scene.surface.path)
+        except InputError as error:
+            problems.append(f"surface.path: {error}")
+    if plan.scene.macro.ranks > 1 and shutil.which("mpirun") is None:
+        problems.append(f"macro.ranks: {plan.scene.macro.ranks} needs mpirun, not on PATH")
+    if problems:
+        raise SceneError(repr(plan.scene.name), problems)
+
+
+def run_scene(
+    scene: Scene,
+    *,
+    fidelity: str | None = None,
+    output: Path | str = "results",
+    cache_dir: Path | str | None = None,
+    jobs: int = 1,
+    progress: TextIO | None = None,
+) -> PipelineResult:
+    """Run every stage of `scene` and write the results folder.
+
+    Args:
+        scene: the study (`knitmech.scene.load_scene`).
+        fidelity: a level name overriding the scene's.
+        output: the results folder (created; files of an earlier run there are replaced).
+        cache_dir: root of the stage and RVE-run caches (default: `default_cache_dir()`).
+        jobs: worker processes for the surface's RVE runs.
+        progress: stream for the progress bar of the RVE runs (None: none).
+
+    Raises:
+        SceneError: the scene cannot run (before anything is computed).
+    """
+    started = time.perf_counter()
+    check_integer("jobs", jobs, 1, 256)
+    plan = plan_run(scene, fidelity_level(fidelity or scene.fidelity))
+    check_plan(plan)
+    cache_dir = Path(cache_dir) if cache_dir is not None else default_cache_dir()
+    folder = Path(output)
+    _clear_previous(folder)
+    stages = StageCache(cache_dir / "stages")
+    records: list[StageRecord] = []
+
+    def run(stage: Stage) -> dict:
+        outcome = stages.run(stage, folder)
+        records.append(outcome.record)
+        return outcome.summary
+
+    created = not folder.exists()
+    try:
+        geometry = run(geometry_stage(plan))
+    except InputError as error:
+        if created:
+            shutil.rmtree(folder, ignore_errors=True)
+        keys = ", ".join(f"fabric.{k}" for k in ("wale_width", "course_height", "yarn_radius"))
+        raise SceneError(repr(plan.scene.name), [f"{keys}: {error}"]) from None
+    meso = {stage.item: run(stage) for stage in meso_stages(plan)}
+    if plan.scene.surface.path is None:
+        runs = SurfaceRuns(ResultCache(cache_dir / "rve-runs"), jobs, progress)
+        surface = run(surface_stage(plan, runs))
+    else:
+        begun = time.perf_counter()
+        surface = to_jsonable(given_surface(Path(plan.scene.surface.path), folder))
+        files = (SURFACE_FILE, SURFACE_FIGURE)
+        records.append(StageRecord("surface", "", GIVEN, time.perf_counter() - begun, "", files))
+    macro = {stage.item: run(stage) for stage in macro_stages(plan, folder / SURFACE_FILE)}
+
+    report_started = time.perf_counter()
+    records = tuple(records)
+    summary = {
+        "scene": plan.scene.to_dict(),
+        "fidelity": dataclasses.asdict(plan.fidelity),
+        "package_version": __version__,
+        "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        "fabric": dataclasses.asdict(plan.fabric),
+        "geometry": geometry,
+        "meso": meso,
+        "surface": surface,
+        "macro": macro,
+        "forces": compare_forces(meso, macro),
+        "poisson_ratios": poisson_ratios(meso, macro),
+        "stages": [dataclasses.asdict(record) for record in records],
+    }
+    written = [SUMMARY_FILE, "summary.txt", "scene.toml"]
+    (folder / "scene.toml").write_text(
+        f"# the scene as run (fidelity {plan.fidelity.name} filled in), knitmech {__version__}\n"
+        + plan.scene.to_toml()
+    )
+    if macro or meso:
+        (folder / "figures").mkdir(exist_ok=True)
+        plot_comparison(meso, macro, folder / "figures" / "force_strain.png")
+        written.append("figures/force_strain.png")
+    timings = stage_timings(records)
+    timings["report"] = time.perf_counter() - report_started
+    timings["total"] = time.perf_counter() - started
+    summary["timings_s"] = timings
+    summary["files"] = sorted({name for r in records for name in r.files} | set(written))
+    summary = to_jsonable(summary)
+    table = summary_table(summary)
+    (folder / "summary.txt").write_text(table + "\n")
+    (folder / SUMMARY_FILE).write_text(json.dumps(summary, indent=1, allow_nan=False))
+    return PipelineResult(plan, folder, summary, records, table)
+
+
+def _clear_previous(folder: Path) -> None:
+    """Delete the files an earlier run listed in the folder's summary.json (and that file)."""
+    summary = folder / SUMMARY_FILE
+    if not summary.is_file():
+        return
+    try:
+        files = json.loads(summary.read_text()).get("files", [])
+    except (OSError, ValueError, AttributeError):
+        return
+    for name in files:
+        path = folder / name
+        if path.resolve().is_relative_to(folder.resolve()) and path.is_file():
+            path.unlink()
+    summary.unlink(missing_ok=True)

@@ -1,0 +1,143 @@
+"""Content-addressed cache of pipeline stages: a stage's summary and every file it writes.
+
+A stage is a named computation with all of its inputs spelled out (`Stage`). Its cache key is
+`rve_rod.cache.cache_key` of those inputs (which adds the package version), so a stage whose
+inputs did not change is never computed again: its summary and files are taken from the cache
+and written into the results folder. A stage computes into a temporary folder inside the
+results folder; only when it has finished are its files stored (atomically, as one entry of
+a `rve_rod.cache.ResultCache`) and moved into place, so an interrupted stage leaves neither a
+cache entry nor half-written files, and the next run computes it again while every stage that
+finished before is taken from the cache.
+"""
+
+import json
+import logging
+import shutil
+import tempfile
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+
+from rve_rod.cache import ResultCache, cache_key
+from rve_rod.cli.common import to_jsonable
+
+logger = logging.getLogger(__name__)
+
+COMPUTED, CACHED, GIVEN = "computed", "cached", "given"
+"""Statuses of a stage record: computed now, taken from the cache, or given by the scene."""
+
+_SUMMARY = "summary"
+_FILES = "files"
+
+
+class Stage(NamedTuple):
+    """One unit of pipeline work.
+
+    Attributes:
+        name: the stage ("geometry", "meso", "surface", "macro").
+        item: what within the stage (a load case, a direction), "" when there is one item.
+        inputs: everything the result depends on (JSON-like; the cache key is made of it).
+        compute: writes the stage's files into the folder it is given (paths relative to it
+            are the paths in the results folder) and returns its JSON-ready summary.
+    """
+
+    name: str
+    item: str
+    inputs: dict
+    compute: Callable[[Path], dict]
+
+
+@dataclass(frozen=True)
+class StageRecord:
+    """What happened to a stage in one run.
+
+    Attributes:
+        stage: the stage's name.
+        item: the item within the stage.
+        status: COMPUTED, CACHED or GIVEN.
+        wall_time_s: time spent, computing or restoring from the cache (s).
+        key: the cache key (SHA-256 hex), "" for a stage that is not cached.
+        files: the files it wrote, relative to the results folder.
+    """
+
+    stage: str
+    item: str
+    status: str
+    wall_time_s: float
+    key: str
+    files: tuple[str, ...]
+
+
+class StageResult(NamedTuple):
+    """A stage's summary and its record."""
+
+    summary: dict
+    record: StageRecord
+
+
+@dataclass(frozen=True)
+class StageCache:
+    """Stage results stored under `folder` (one `.npz` per key, see `rve_rod.cache`).
+
+    Attributes:
+        folder: root folder of the stage cache.
+    """
+
+    folder: Path
+
+    def __post_init__(self):
+        object.__setattr__(self, "folder", Path(self.folder))
+
+    def run(self, stage: Stage, output: Path) -> StageResult:
+        """The stage's summary, from the cache or computed; its files end up in `output`."""
+        started = time.perf_counter()
+        output = Path(output)
+        output.mkdir(parents=True, exist_ok=True)
+        entries = ResultCache(self.folder)
+        inputs = {"stage": stage.name, "item": stage.item, "inputs": stage.inputs}
+        key = cache_key(inputs)
+        arrays = entries.load(inputs)
+        if arrays is not None:
+            summary = json.loads(str(arrays[_SUMMARY]))
+            names = json.loads(str(arrays[_FILES]))
+            for index, name in enumerate(names):
+                target = output / name
+                target.parent.mkdir(parents=True, exist_ok=True)
+                target.write_bytes(arrays[f"file_{index}"].tobytes())
+            status = CACHED
+        else:
+            logger.info("%s: computing", _label(stage))
+            with tempfile.TemporaryDirectory(dir=output, prefix=".stage-") as temporary:
+                work = Path(temporary)
+                summary = to_jsonable(stage.compute(work))
+                names = sorted(str(p.relative_to(work)) for p in work.rglob("*") if p.is_file())
+                stored = {
+                    _SUMMARY: np.array(json.dumps(summary, allow_nan=False)),
+                    _FILES: np.array(json.dumps(names)),
+                }
+                for index, name in enumerate(names):
+                    stored[f"file_{index}"] = np.frombuffer((work / name).read_bytes(), np.uint8)
+                entries.store(inputs, stored)
+                for name in names:
+                    target = output / name
+                    target.parent.mkdir(parents=True, exist_ok=True)
+                    shutil.move(work / name, target)
+            status = COMPUTED
+        record = StageRecord(
+            stage=stage.name,
+            item=stage.item,
+            status=status,
+            wall_time_s=time.perf_counter() - started,
+            key=key,
+            files=tuple(names),
+        )
+        logger.info("%s: %s in %.2f s", _label(stage), status, record.wall_time_s)
+        return StageResult(summary, record)
+
+
+def _label(stage: Stage) -> str:
+    return f"{stage.name} {stage.item}".rstrip()

@@ -1,0 +1,29 @@
+"""The surface shipped for the demos is what `knitmech run` makes for the default scene at the
+default fidelity with the current settings (a changed RVE setting, sampling, fit or fabric
+makes this fail: remake the file as docs/pipeline.md says)."""
+
+import dataclasses
+import json
+
+from knitmech.fidelity import DEFAULT, fidelity_level
+from knitmech.scene import default_surface_path, load_scene
+from knitmech.stages import plan_run
+from rve_rod.homogenize.generate import engine_identity
+from rve_rod.rve import RodRve
+from rve_rod.surface import read_surface
+
+
+def plain(value):
+    return json.loads(json.dumps(value))
+
+
+def test_shipped_surface_matches_the_default_scene_and_settings():
+    parameters = read_surface(default_surface_path()).parameters
+    plan = plan_run(load_scene(), fidelity_level(DEFAULT))
+    assert parameters["fabric"] == plain(dataclasses.asdict(plan.fabric))
+    assert parameters["sampling"] == plain(dataclasses.asdict(plan.sampling))
+    identity = plain(engine_identity(RodRve(plan.rve)))
+    assert {key: parameters[key] for key in identity} == identity
+    fit = dataclasses.asdict(plan.fit)
+    assert {key: parameters["fit"][key] for key in fit} == fit
+    assert parameters["fit"]["kind"] == load_scene().surface.kind

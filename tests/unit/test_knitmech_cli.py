@@ -1,0 +1,76 @@
+"""`knitmech run` refuses bad scenes before computing anything: exit status 2, one line per
+problem naming its key, no results and no cache written."""
+
+from knitmech.cli import main
+
+
+def run(tmp_path, text, capsys, *extra):
+    scene = tmp_path / "scene.toml"
+    scene.write_text(text)
+    folders = ["-o", str(tmp_path / "out"), "--cache-dir", str(tmp_path / "cache")]
+    status = main(["run", str(scene), *folders, *extra])
+    return status, capsys.readouterr().err.splitlines()
+
+
+def nothing_written(tmp_path):
+    return not (tmp_path / "out").exists() and not (tmp_path / "cache").exists()
+
+
+def test_unknown_keys_wrong_types_and_missing_surface_one_line_each(tmp_path, capsys):
+    text = """
+fidelity = "quick"
+[fabric]
+preset = "cotton-20s2"
+stitch = "5.5"
+[meso]
+casses = ["uniaxial-course"]
+[surface]
+path = "missing.h5"
+[macro]
+elements = 0
+"""
+    status, lines = run(tmp_path, text, capsys)
+    assert status == 2
+    problems = [line.strip() for line in lines[1:]]
+    keys = sorted(problem.split(":")[0].removeprefix("- ") for problem in problems)
+    assert keys == ["fabric.stitch", "fidelity", "macro.elements", "meso.casses", "surface.path"]
+    assert "scene" in lines[0] and "5 problem(s)" in lines[0]
+    assert nothing_written(tmp_path)
+
+
+def test_corrupt_surface_file_is_refused_naming_the_key(tmp_path, capsys):
+    (tmp_path / "broken.h5").write_bytes(b"not an HDF5 file")
+    text = '[fabric]\npreset = "cotton-20s2"\nstitch = 5.5\n[surface]\npath = "broken.h5"\n'
+    status, lines = run(tmp_path, text, capsys)
+    assert status == 2
+    assert lines[1].strip().startswith("- surface.path:")
+    assert nothing_written(tmp_path)
+
+
+def test_impossible_geometry_is_refused_before_the_rve_runs(tmp_path, capsys):
+    text = """
+[fabric]
+wale_width = 1.33
+course_height = 0.3
+yarn_radius = 0.19
+youngs_modulus = 80.0
+"""
+    status, lines = run(tmp_path, text, capsys)
+    assert status == 2
+    assert "no loop fits" in lines[1]
+    assert lines[1].strip().startswith("- fabric.wale_width, fabric.course_height")
+    assert not (tmp_path / "out").exists()
+
+
+def test_usage_errors_exit_2_with_one_line(tmp_path, capsys):
+    assert main(["run", "--fidelity", "ultra"]) == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1
+    assert main(["run", str(tmp_path / "absent.toml")]) == 2
+    assert "cannot be read" in capsys.readouterr().err
+    status, lines = run(
+        tmp_path, '[fabric]\npreset = "cotton-20s2"\nstitch = 5.5\n', capsys, "--jobs", "0"
+    )
+    assert status == 2 and lines == [
+        "knitmech run: error: jobs=0 is outside the valid range [1, 256]"
+    ]
+    assert nothing_written(tmp_path)

@@ -1,0 +1,69 @@
+"""The summary numbers: forces and Poisson ratios read off the curves at 5, 10, 20 %."""
+
+import numpy as np
+import pytest
+
+from knitmech.report import compare_forces, poisson_ratios, summary_table, value_at
+
+
+def curve(max_strain, steps, force, lateral):
+    """A run record with force(strain) and lateral(strain) sampled at `steps` states."""
+    strain = np.linspace(0.0, max_strain, steps)
+    return {
+        "strain": strain.tolist(),
+        "force_gf_per_cm": [force(s) for s in strain],
+        "material_uniaxial_gf_per_cm": [0.9 * force(s) for s in strain],
+        "lateral_strain": [lateral(s) for s in strain],
+    }
+
+
+def test_values_between_states_are_linear_interpolation_and_none_beyond_the_end():
+    strain = [0.0, 0.04, 0.08, 0.12]
+    values = [0.0, 1.0, None, 5.0]  # a missing value is skipped
+    assert value_at(strain, values, 0.02) == pytest.approx(0.5)
+    assert value_at(strain, values, 0.10) == pytest.approx(1.0 + 4.0 * 0.06 / 0.08)
+    assert value_at(strain, values, 0.12) == pytest.approx(5.0)
+    assert value_at(strain, values, 0.2) is None
+
+
+def test_forces_and_poisson_ratios_of_meso_and_macro():
+    meso = {
+        "uniaxial-course": curve(0.2, 21, lambda s: 100 * s, lambda s: -0.1 * s),
+        "uniaxial-wale": curve(0.2, 9, lambda s: 400 * s, lambda s: -0.3 * s),
+    }
+    macro = {"course": curve(0.2, 5, lambda s: 110 * s, lambda s: -0.2 * s)}
+    forces = compare_forces(meso, macro)
+    assert forces["course"]["meso_gf_per_cm"] == pytest.approx([5.0, 10.0, 20.0])
+    assert forces["course"]["macro_gf_per_cm"] == pytest.approx([5.5, 11.0, 22.0])
+    assert forces["course"]["surface_gf_per_cm"] == pytest.approx([4.95, 9.9, 19.8])
+    assert forces["course"]["relative_difference"] == pytest.approx([0.1] * 3)
+    assert forces["wale"]["meso_gf_per_cm"] == pytest.approx([20.0, 40.0, 80.0])
+    assert forces["wale"]["macro_gf_per_cm"] == [None] * 3
+    ratios = poisson_ratios(meso, macro)
+    assert ratios["nu12"]["meso"] == pytest.approx([0.1, 0.1])
+    assert ratios["nu12"]["macro"] == pytest.approx([0.2, 0.2])
+    assert ratios["nu21"]["meso"] == pytest.approx([0.3, 0.3])
+    assert ratios["nu21"]["macro"] == [None, None]
+
+
+def test_table_shows_every_force_and_missing_values_as_dashes():
+    meso = {"uniaxial-course": curve(0.1, 11, lambda s: 100 * s, lambda s: -0.1 * s)}
+    macro = {"course": curve(0.1, 5, lambda s: 120 * s, lambda s: -0.2 * s)}
+    summary = {
+        "scene": {"name": "test"},
+        "fidelity": {"name": "fast"},
+        "forces": compare_forces(meso, macro),
+        "poisson_ratios": poisson_ratios(meso, macro),
+        "stages": [
+            {"stage": "meso", "status": "cached"},
+            {"stage": "macro", "status": "computed"},
+        ],
+        "timings_s": {"meso": 0.5, "macro": 2.0, "report": 0.1, "total": 2.6},
+    }
+    rows = summary_table(summary).splitlines()
+    ten = next(row for row in rows if row.strip().startswith("10 %")).split()
+    assert ten[2:] == ["10.00", "10.80", "12.00", "+20.0%"]
+    twenty = next(row for row in rows if row.strip().startswith("20 %")).split()
+    assert twenty[2:] == ["-", "-", "-", "-"]
+    macro_row = next(row for row in rows if row.strip().startswith("macro")).split()
+    assert macro_row[1:] == ["1", "1", "0", "2.0"]
