@@ -141,7 +141,8 @@ def summary_table(summary: dict) -> str:
     if "runs" in surface:
         incomplete = len(surface["incomplete_runs"])
         lines.append(
-            f"  surface RVE runs: {surface['runs']} ({surface['runs_computed']} computed, "
+            f"  surface RVE runs when the surface was made: {surface['runs']} "
+            f"({surface['runs_computed']} computed, "
             f"{surface['runs_cached']} cached, {incomplete} stopped early)"
         )
     return "\n".join(lines)
