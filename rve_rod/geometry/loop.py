@@ -375,14 +375,40 @@ def mirrored_loop(quarter: BSplineCurve, wale_width: float) -> tuple[BSplineCurv
     )
 
 
+class Condition(NamedTuple):
+    """A linear condition on one coordinate of the quarter: derivative `order` at parameter
+    `at` equals `value` (mm)."""
+
+    at: float
+    order: int
+    value: float
+
+
+def symmetry_conditions(wale_width: float) -> tuple[tuple[Condition, ...], ...]:
+    """The end conditions (x, y and z, one tuple each) that make the mirrored loop C2.
+
+    At the apex (u = 0, mirror x -> -x) x = 0, x'' = 0, y' = 0, z' = 0; at the leg point
+    (u = 1, symmetry (x, y, z) -> (w/2 - x, -y, z)) x = w/4, y = 0, x'' = y'' = 0, z' = 0
+    (docs/geometry.md derives them).
+    """
+    return (
+        (
+            Condition(0.0, 0, 0.0),
+            Condition(0.0, 2, 0.0),
+            Condition(1.0, 0, wale_width / 4),
+            Condition(1.0, 2, 0.0),
+        ),
+        (Condition(0.0, 1, 0.0), Condition(1.0, 0, 0.0), Condition(1.0, 2, 0.0)),
+        (Condition(0.0, 1, 0.0), Condition(1.0, 1, 0.0)),
+    )
+
+
 def _fit_quarter(shape: LoopShape) -> BSplineCurve:
     """Constrained least-squares fit of the quarter: 12 control points, degree 4.
 
-    End conditions make the mirrored loop C2 (docs/geometry.md): at the apex (u = 0, mirror
-    x -> -x) x = 0, x'' = 0, y' = 0, z' = 0; at the leg point (u = 1, symmetry
-    (x, y, z) -> (w/2 - x, -y, z)) x = w/4, y = 0, x'' = y'' = 0, z' = 0. The curve also passes
-    through the shoulder's outermost point with x' = 0 there, so that the built-in contacts are
-    exactly 2r in the spline as in the analytic model.
+    The `symmetry_conditions` make the mirrored loop C2. The curve also passes through the
+    shoulder's outermost point with x' = 0 there, so that the built-in contacts are exactly 2r
+    in the spline as in the analytic model.
     """
     sampled = shape.quarter_samples(_fit_fractions())
     if sampled is None:
@@ -392,35 +418,38 @@ def _fit_quarter(shape: LoopShape) -> BSplineCurve:
         )
     knots = open_knot_vector(DEGREE, CONTROL_POINTS)
     design = _design_matrix()
-    at = np.array([0.0, 1.0, sampled.shoulder_fraction])
-    rows = [basis_matrix(knots, DEGREE, at, k).toarray() for k in range(3)]
-    apex, leg, shoulder = 0, 1, 2
-    conditions = (
-        (
-            (apex, 0, 0.0),
-            (apex, 2, 0.0),
-            (leg, 0, shape.wale_width / 4),
-            (leg, 2, 0.0),
-            (shoulder, 0, sampled.shoulder[0]),
-            (shoulder, 1, 0.0),
-        ),
-        ((apex, 1, 0.0), (leg, 0, 0.0), (leg, 2, 0.0), (shoulder, 0, sampled.shoulder[1])),
-        ((apex, 1, 0.0), (leg, 1, 0.0), (shoulder, 0, sampled.shoulder[2])),
+    at, point = sampled.shoulder_fraction, sampled.shoulder
+    shoulder = (
+        (Condition(at, 0, point[0]), Condition(at, 1, 0.0)),
+        (Condition(at, 0, point[1]),),
+        (Condition(at, 0, point[2]),),
     )
+    conditions = symmetry_conditions(shape.wale_width)
     control = np.empty((CONTROL_POINTS, 3))
     n = CONTROL_POINTS
-    for axis, axis_conditions in enumerate(conditions):
-        constraint = np.array([rows[order][where] for where, order, _ in axis_conditions])
+    for axis in range(3):
+        axis_conditions = conditions[axis] + shoulder[axis]
+        constraint = condition_rows(knots, axis_conditions)
         k = len(axis_conditions)
         kkt = np.zeros((n + k, n + k))
         kkt[:n, :n] = design.T @ design
         kkt[:n, n:] = constraint.T
         kkt[n:, :n] = constraint
         rhs = np.concatenate(
-            [design.T @ sampled.points[:, axis], [value for _, _, value in axis_conditions]]
+            [design.T @ sampled.points[:, axis], [condition.value for condition in axis_conditions]]
         )
         control[:, axis] = np.linalg.solve(kkt, rhs)[:n]
     return BSplineCurve(DEGREE, knots, control)
+
+
+def condition_rows(knots: np.ndarray, conditions: tuple[Condition, ...]) -> np.ndarray:
+    """The conditions as rows acting on one coordinate of the control points, (k, n)."""
+    return np.vstack(
+        [
+            basis_matrix(knots, DEGREE, np.array([condition.at]), condition.order).toarray()
+            for condition in conditions
+        ]
+    )
 
 
 def _fit_fractions() -> np.ndarray:
