@@ -31,7 +31,8 @@ def model_error(preset, stitch):
         pytest.param(
             *key,
             marks=pytest.mark.xfail(
-                strict=True, reason="tight knit: measured loop shorter than a 2r-clear loop"
+                strict=True,
+                reason="tight knit: the model family is 6.3 % long (a 2r-clear loop 2 % long exists)",
             ),
         )
         if key in TIGHT
