@@ -289,7 +289,7 @@ def single_jersey_loop(
 
     With `shoulder_radius` (rho, mm, r <= rho <= `largest_shoulder_radius`) the shape
     parameter is given instead of optimized (the depth still follows from the clearance
-    condition). Takes about half a second; results are remembered per process (they are
+    condition). Takes about a second; results are remembered per process (they are
     immutable), since the RVE runs of one fabric all use the same loop. Raises InputError for
     non-positive or non-finite values and when no loop fits.
     """
@@ -433,8 +433,8 @@ def _smallest_clear_depth(excess, r: float, guess: float) -> float:
         else:
             below = [(depth, value), *below][:2]
             margin *= 4 if aimed else 1
-        if not below:  # all clear so far: go shallower
-            depth, step = clear - step, 2 * step
+        if not below:  # all clear so far: go shallower (staying > 0)
+            depth, step = max(clear - step, 0.5 * clear), 2 * step
             aimed = False
             continue
         deepest = below[0][0]

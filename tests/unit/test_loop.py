@@ -217,7 +217,7 @@ def test_spline_follows_the_analytic_three_section_quarter(loop):
     analytic = shape_of(loop).quarter_samples(np.linspace(0, 1, 4001)).points
     spline = loop.curves[2](np.linspace(0, 1, 400))
     deviation = cdist(spline, analytic).min(axis=1).max()
-    assert deviation < 0.03 * loop.yarn_radius  # measured 2.1 % of r for cotton 5.5
+    assert deviation < 0.03 * loop.yarn_radius  # 2.5 % of r (1.5-3.6 % for the fabrics)
 
 
 def test_shoulder_radius_minimizes_the_loop_length(loop):
