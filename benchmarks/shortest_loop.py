@@ -80,7 +80,7 @@ class QuarterSpace(NamedTuple):
 def quarter_space(knots: np.ndarray, wale_width: float) -> QuarterSpace:
     offsets, bases = [], []
     for conditions in symmetry_conditions(wale_width):
-        rows = condition_rows(knots, conditions)
+        rows = condition_rows(conditions)
         values = np.array([condition.value for condition in conditions])
         offsets.append(np.linalg.lstsq(rows, values, rcond=None)[0])
         bases.append(scipy.linalg.null_space(rows))

@@ -71,8 +71,9 @@ def run(args: argparse.Namespace) -> int:
             if fabric.knit.measured_loop_length
             else ""
         ),
-        f"  head height h      {geometry.shape_parameter:.4f} mm (shape parameter)",
-        f"  depth delta        {geometry.depth:.4f} mm",
+        f"  shoulder radius    {geometry.shape_parameter:.4f} mm = "
+        f"{geometry.shape_parameter / r:.3f} r (shape parameter)",
+        f"  depth d            {geometry.depth:.4f} mm = {geometry.depth / r:.3f} r",
         f"  min clearance      {geometry.min_clearance:.5f} mm = "
         f"{geometry.min_clearance / (2 * r):.5f} x 2r (image {geometry.closest.image})",
         "  control points     4 curves x 12, degree 4",

@@ -1,29 +1,33 @@
 """The single-jersey loop: a three-section quarter, mirrored into one periodic loop of 4 B-splines.
 
 Construction (docs/geometry.md has the derivation and a figure). Axis x is course-wise (period
-w, wale width), y wale-wise (period c, course height), z out of plane. A quarter of the yarn
-centreline runs from the apex of the needle-loop head A = (0, h) to the leg point L = (w/4, 0)
-where the loop crosses its mid-height. In the x/y projection it is made of three tangent-
-continuous sections:
+w, wale width), y wale-wise (period c, course height), z out of plane; r is the yarn radius. A
+quarter of the yarn centreline runs from the apex of the needle-loop head A = (0, h) to the leg
+point L = (w/4, 0) where the loop crosses its mid-height. In the x/y projection it is made of
+three tangent-continuous sections:
 
-1. the crown, a circular arc of radius rho1 centred on x = 0, from A;
-2. the shoulder, a circular arc of radius rho2 = 1.25 r whose outermost point lies at
-   x = w/4 + r (so that the shoulder clears the sinker loop of the neighbouring wale by 2r);
-   rho1 follows from the internal tangency of the two circles;
-3. the leg, the straight line from the shoulder tangent to L.
+1. the crown, the straight segment y = h from A to x = w/4 + r - a;
+2. the shoulder, a quarter ellipse of semi-axes a = 1.3 rho (along x) and rho (along y) centred
+   at (w/4 + r - a, c/2) that ends at the widest point W = (w/4 + r, c/2) with its tangent along
+   y;
+3. the leg, the circular arc through W and L with its centre on the line y = c/2 (so that it is
+   tangent to the shoulder at W), of radius (r^2 + c^2/4) / (2 r).
 
-Out of plane the yarn follows z = delta (1/2 - (y/h)^2): the heads and sinker loops lie behind
-(z = -delta/2), the legs in front (z = delta/2) where they cross the heads of the neighbouring
-courses. The head height h is the free shape parameter; for each h the depth delta is the
-smallest one for which the yarn clears the loops of the courses above and below by 2r, and h
-is chosen to minimize the loop length (the condition is then active: clearance = 2r where the
-yarns touch).
+Hence h = c/2 + rho. W lies one radius outside the neck line x = w/4: the head rests against the
+sinker loop of the course above (widest point (w/4 - r, c/2)) and, when r = w/8, against the
+head of the next wale, both exactly 2r away. Out of plane z depends on y only: the legs lie in
+the front plane z = +d/2 while |y| <= c - h; across the band c - h <= |y| <= h, where the loops
+of neighbouring courses overlap, z falls as a parabola to the back plane z = -d/2 at the head
+apex (and by symmetry at the sinker). The shoulder radius rho (`shoulder_radius_bounds`) is the
+free shape parameter; for each rho the depth d is the smallest for which the yarn clears its
+neighbours by 2r (a secant search), and rho is chosen to minimize the loop length.
 
 The quarter is fitted by a degree-4 B-spline with 12 control points (least squares in arc
-length, with the end conditions that make the mirrored loop C2) and mirrored by the loop's two
-symmetries, x -> -x (about the head apex) and (x, y) -> (w/2 - x, -y) (about L), into the 4
-curves of one loop from sinker to sinker. Each curve is parametrized on [0, 1]; the loop runs
-through curve 0, 1, 2, 3 and continues into curve 0 of the next wale shifted by (w, 0, 0).
+length, with the end conditions that make the mirrored loop C2, and W pinned) and mirrored by
+the loop's two symmetries, x -> -x (about the head apex) and (x, y) -> (w/2 - x, -y) (about L),
+into the 4 curves of one loop from sinker to sinker. Each curve is parametrized on [0, 1]; the
+loop runs through curve 0, 1, 2, 3 and continues into curve 0 of the next wale shifted by
+(w, 0, 0).
 """
 
 import logging
@@ -35,8 +39,13 @@ from typing import NamedTuple
 import numpy as np
 import scipy.optimize
 
-from rve_rod.errors import InputError, check_integer, check_positive
-from rve_rod.geometry.bspline import BSplineCurve, basis_matrix, open_knot_vector
+from rve_rod.errors import InputError, check_integer, check_positive, check_range
+from rve_rod.geometry.bspline import (
+    BSplineCurve,
+    basis_functions,
+    basis_matrix,
+    open_knot_vector,
+)
 from rve_rod.geometry.proximity import ChainClearance, chain_clearance
 from rve_rod.presets import Knit
 
@@ -46,17 +55,32 @@ DEGREE = 4
 """Degree of the loop curves (the paper's geometry)."""
 CONTROL_POINTS = 12
 """Control points of each quarter curve before refinement."""
-SHOULDER_RADIUS_FACTOR = 1.25
-"""rho2 / r, a model constant (not a shape parameter): 1.15 to 1.35 change the loop length by
-at most 1 % (docs/geometry.md), while rho2 = r makes the loop 8-10 % longer."""
 ADJACENT_ARC_FACTOR = math.pi
 """Parts of the same yarn closer than this times r in arc length are adjacent, not in contact."""
+MAX_DEPTH_FACTOR = 12.0
+"""Depths beyond 12 r count as no fit (the optimal loops have d = 2.0-2.1 r)."""
 _FIT_SAMPLES = 121
-_HEIGHT_SCAN = 10
 _POLYLINE_SAMPLES = 60
-_CLEARANCE_TOLERANCE = 1e-4
-"""Relative shortfall of 2r accepted where yarns touch (0.01 %, the issue allows 0.1 %)."""
 _SECTION_SAMPLES = 400
+SHOULDER_ASPECT = 1.3
+"""a / rho, the shoulder ellipse's semi-axis along x over the one along y: a model constant, not
+a shape parameter. 1.0 (a circle) leaves the two tightest cotton knits 4.1 and 4.7 % long, 1.2
+and 1.3 bring every fabric within 4 %, 1.4 does not (its bound rho >= 1.4 r on the tightest bend
+is active); docs/geometry.md has the table. The shortest loops of the spline space have the
+same flattened shoulder (benchmarks/shortest_loop.py)."""
+_SHOULDER_SCAN = (1.3, 1.45, 1.6)
+"""Shoulder radii (in r) scanned before Brent's method: the optimum of the fabrics tried lies at
+1.3-1.34 r."""
+_FINE_SHOULDER_SCAN = tuple(np.linspace(1.3, 1.9, 13))
+"""Scanned when no loop of _SHOULDER_SCAN fits: tight knits (c near 4 r) fit only in a narrow
+window of shoulder radii."""
+_SHOULDER_TOLERANCE = 5e-3
+"""Brent's tolerance on the shoulder radius, in r (the length is flat at the optimum)."""
+_DEPTH_TOLERANCE = 1e-5
+"""Width, in r, of the final bracket of the depth search."""
+_DEPTH_ITERATIONS = 60
+_ROUND_OFF = 1e-9
+"""Relative shortfall of 2r accepted as contact: the contacts at W are exact by construction."""
 
 
 @dataclass(frozen=True)
@@ -67,75 +91,88 @@ class LoopShape:
         wale_width: w.
         course_height: c.
         yarn_radius: r (already adjusted: r <= w/8).
-        head_height: h, the y of the head apex (the free shape parameter).
-        depth: delta, the out-of-plane amplitude (z from -delta/2 to delta/2).
+        shoulder_radius: rho, the free shape parameter, within `shoulder_radius_bounds`; the
+            shoulder is an ellipse of semi-axes SHOULDER_ASPECT rho (x) and rho (y).
+        depth: d, the legs lie at z = d/2, head apex and sinker at z = -d/2.
     """
 
     wale_width: float
     course_height: float
     yarn_radius: float
-    head_height: float
+    shoulder_radius: float
     depth: float
 
+    def __post_init__(self):
+        for name in ("wale_width", "course_height", "yarn_radius", "depth"):
+            check_positive(name, getattr(self, name), "mm")
+        bounds = shoulder_radius_bounds(self.wale_width, self.course_height, self.yarn_radius)
+        check_range("shoulder_radius", self.shoulder_radius, *bounds, "mm")
+
     @property
-    def shoulder_radius(self) -> float:
-        return SHOULDER_RADIUS_FACTOR * self.yarn_radius
+    def widest_x(self) -> float:
+        """x of the widest point W = (w/4 + r, c/2) (mm)."""
+        return self.wale_width / 4 + self.yarn_radius
 
-    def projection(self) -> np.ndarray | None:
-        """Dense x/y points of the quarter from A to L, shape (k, 2); None if it does not exist.
+    @property
+    def head_height(self) -> float:
+        """h = c/2 + rho, the y of the head apex (mm)."""
+        return self.course_height / 2 + self.shoulder_radius
 
-        Angles are measured clockwise from +y: a point of a circle of centre C and radius rho at
-        angle t is C + rho (sin t, cos t), and the quarter turns clockwise from A towards L.
+    @property
+    def leg_radius(self) -> float:
+        """(r^2 + c^2/4) / (2 r): the circle through W and L centred on y = c/2 (mm)."""
+        r, c = self.yarn_radius, self.course_height
+        return (r**2 + c**2 / 4) / (2 * r)
+
+    def sections(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Dense x/y points of crown, shoulder and leg, each (k, 2), from A through W to L.
+
+        Angles are measured clockwise from +y: a point of a circle of centre C and radius R at
+        angle t is C + R (sin t, cos t); shoulder and leg both turn clockwise, the shoulder from
+        t = 0 to pi/2 (W), the leg from pi/2 to the angle of L. Consecutive sections share
+        their end points.
         """
-        w, c, r, h = self.wale_width, self.course_height, self.yarn_radius, self.head_height
-        rho2 = self.shoulder_radius
-        shoulder_x = w / 4 + r - rho2  # the shoulder's outermost point is at x = w/4 + r
-        rise = h - c / 2  # the shoulder centre sits at mid course height
-        if shoulder_x <= 0 or rise <= rho2:
-            return None
-        rho1 = (shoulder_x**2 + rise**2 - rho2**2) / (2 * (rise - rho2))
-        crown_centre = np.array([0.0, h - rho1])
-        shoulder_centre = np.array([shoulder_x, c / 2])
-        a1 = math.atan2(shoulder_x, c / 2 - crown_centre[1])
-        to_leg = np.array([w / 4, 0.0]) - shoulder_centre
-        distance = float(np.hypot(*to_leg))
-        if distance <= rho2:
-            return None
-        # tangent from the shoulder circle through L: (L - C2) . (sin a2, cos a2) = rho2, with
-        # L ahead along the clockwise tangent (cos a2, -sin a2); the first such angle after a1
-        candidates = []
-        for sign in (1.0, -1.0):
-            angle = math.atan2(to_leg[0], to_leg[1]) + sign * math.acos(rho2 / distance)
-            angle = a1 + (angle - a1) % (2 * math.pi)
-            ahead = to_leg - rho2 * np.array([math.sin(angle), math.cos(angle)])
-            if ahead @ np.array([math.cos(angle), -math.sin(angle)]) > 0:
-                candidates.append(angle)
-        if not candidates or min(candidates) > math.pi:
-            return None
-        a2 = min(candidates)
-        t1 = np.linspace(0.0, a1, _SECTION_SAMPLES)
-        t2 = np.linspace(a1, a2, _SECTION_SAMPLES)[1:]
-        crown = crown_centre + rho1 * np.stack([np.sin(t1), np.cos(t1)], axis=1)
-        shoulder = shoulder_centre + rho2 * np.stack([np.sin(t2), np.cos(t2)], axis=1)
-        tangent_point = shoulder[-1]
-        s = np.linspace(0.0, 1.0, _SECTION_SAMPLES)[1:, None]
-        leg = tangent_point + s * (np.array([w / 4, 0.0]) - tangent_point)
-        return np.concatenate([crown, shoulder, leg])
+        c, rho, big = self.course_height, self.shoulder_radius, self.leg_radius
+        across = SHOULDER_ASPECT * rho
+        corner = self.widest_x - across
+        crown = np.column_stack(
+            [np.linspace(0.0, corner, _SECTION_SAMPLES), np.full(_SECTION_SAMPLES, c / 2 + rho)]
+        )
+        t = np.linspace(0.0, math.pi / 2, _SECTION_SAMPLES)
+        shoulder = np.column_stack([corner + across * np.sin(t), c / 2 + rho * np.cos(t)])
+        shoulder[-1] = [self.widest_x, c / 2]  # exactly W
+        at_leg = math.atan2(big - self.yarn_radius, -c / 2)  # L - centre = big (sin t, cos t)
+        t = np.linspace(math.pi / 2, at_leg, _SECTION_SAMPLES)
+        leg = np.column_stack([self.widest_x - big + big * np.sin(t), c / 2 + big * np.cos(t)])
+        leg[-1] = [self.wale_width / 4, 0.0]  # exactly L, not L up to round-off
+        return crown, shoulder, leg
 
-    def quarter_samples(self, fractions: np.ndarray) -> "QuarterSamples | None":
-        """Points of the 3D quarter at fractions of its arc length, and where the shoulder
-        reaches x = w/4 + r (the built-in contacts: docs/geometry.md)."""
+    def projection(self) -> np.ndarray:
+        """Dense x/y points of the quarter from A to L, shape (k, 2) (mm)."""
+        crown, shoulder, leg = self.sections()
+        points = np.concatenate([crown[:-1], shoulder[:-1], leg])
+        steps = np.linalg.norm(np.diff(points, axis=0), axis=1)
+        return points[np.concatenate([[True], steps > 0])]  # no crown when a = w/4 + r
+
+    def height(self, y: np.ndarray) -> np.ndarray:
+        """z(y): d/2 on the legs, a parabola across the band c - h <= |y| <= h (mm)."""
+        band_start = self.course_height / 2 - self.shoulder_radius  # c - h
+        t = np.clip((np.abs(y) - band_start) / (2 * self.shoulder_radius), 0.0, 1.0)
+        return self.depth * (0.5 - t**2)
+
+    def quarter_samples(self, fractions: np.ndarray) -> "QuarterSamples":
+        """Points of the 3D quarter at fractions of its arc length, and where it passes W."""
         plane = self.projection()
-        if plane is None:
-            return None
-        z = self.depth * (0.5 - (plane[:, 1] / self.head_height) ** 2)
-        points = np.column_stack([plane, z])
+        points = np.column_stack([plane, self.height(plane[:, 1])])
         arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
         targets = fractions * arc[-1]
         samples = np.stack([np.interp(targets, arc, points[:, k]) for k in range(3)], axis=1)
-        outermost = int(np.argmax(plane[:, 0]))
-        shoulder = np.array([plane[outermost, 0], plane[outermost, 1], z[outermost]])
-        return QuarterSamples(samples, arc[outermost] / arc[-1], shoulder)
+        widest = int(np.argmax(plane[:, 0]))
+        return QuarterSamples(samples, arc[widest] / arc[-1], points[widest])
+
+    def curves(self) -> tuple[BSplineCurve, ...]:
+        """The 4 B-spline curves of the loop: the fitted quarter, mirrored (`mirrored_loop`)."""
+        return mirrored_loop(_fit_quarter(self), self.wale_width)
 
 
 class QuarterSamples(NamedTuple):
@@ -143,8 +180,8 @@ class QuarterSamples(NamedTuple):
 
     Attributes:
         points: (m, 3) points at the requested arc-length fractions (mm).
-        shoulder_fraction: arc-length fraction of the shoulder's outermost point.
-        shoulder: (3,) that point, (w/4 + r, c/2, z) (mm).
+        shoulder_fraction: arc-length fraction of the widest point W.
+        shoulder: (3,) W itself, (w/4 + r, c/2, z(c/2)) (mm).
     """
 
     points: np.ndarray
@@ -162,8 +199,9 @@ class LoopGeometry:
         minimal_radius: r0 as given.
         yarn_radius: r = min(r0, w/8), the radius the model uses.
         radius_adjusted: whether r < r0.
-        shape_parameter: the head height h (mm), chosen to minimize the loop length.
-        depth: delta, out-of-plane amplitude (mm), from the clearance condition.
+        shape_parameter: the shoulder radius rho (mm), chosen to minimize the loop length.
+        depth: d, distance of the legs' plane from the heads' plane (mm), the smallest for
+            which the loop clears its neighbours by 2r.
         curves: the 4 curves of one loop (degree 4, 12 control points each, on [0, 1]).
         loop_length: length of the B-spline loop (mm).
         min_clearance: smallest centreline distance to the periodic neighbours and to the
@@ -231,6 +269,17 @@ def loop_polylines(geometry: LoopGeometry, neighbours: int = 1) -> list[tuple[tu
     ]
 
 
+def shoulder_radius_bounds(
+    wale_width: float, course_height: float, yarn_radius: float
+) -> tuple[float, float]:
+    """The admissible shoulder radii (mm): from SHOULDER_ASPECT r, where the shoulder's tightest
+    bend (radius rho^2 / a = rho / SHOULDER_ASPECT, at W) equals the yarn radius, to
+    min(c/2, (w/4 + r) / SHOULDER_ASPECT): the overlap band c/2 - rho <= |y| starts at y >= 0
+    and the crown w/4 + r - a is not negative. The second can be below the first: no loop."""
+    largest = min(course_height / 2, (wale_width / 4 + yarn_radius) / SHOULDER_ASPECT)
+    return SHOULDER_ASPECT * yarn_radius, largest
+
+
 def adjusted_radius(minimal_radius: float, wale_width: float) -> float:
     """r = min(r0, w/8): the yarn radius the loop model can accommodate (mm)."""
     return min(minimal_radius, wale_width / 8.0)
@@ -246,14 +295,15 @@ def single_jersey_loop(
     wale_width: float,
     course_height: float,
     minimal_radius: float,
-    head_height: float | None = None,
+    shoulder_radius: float | None = None,
 ) -> LoopGeometry:
     """Build the minimum-length loop for wale width w, course height c, yarn radius r0 (mm).
 
-    With `head_height` (mm) the shape parameter is given instead of optimized (the depth still
-    follows from the clearance condition). Takes about a second; results are remembered per
-    process (they are immutable), since the RVE runs of one fabric all use the same loop.
-    Raises InputError for non-positive or non-finite values and when no loop fits.
+    With `shoulder_radius` (rho, mm, within `shoulder_radius_bounds`) the shape
+    parameter is given instead of optimized (the depth still follows from the clearance
+    condition). Takes about a second; results are remembered per process (they are
+    immutable), since the RVE runs of one fabric all use the same loop. Raises InputError for
+    non-positive or non-finite values and when no loop fits.
     """
     w = check_positive("wale_width", wale_width, "mm")
     c = check_positive("course_height", course_height, "mm")
@@ -261,99 +311,164 @@ def single_jersey_loop(
     r = adjusted_radius(r0, w)
     if r < r0:
         logger.info("yarn radius adjusted from r0 = %.4g mm to w/8 = %.4g mm", r0, r)
-    lattice = np.array([[w, 0.0, 0.0], [0.0, c, 0.0]])
-
-    depths: dict[float, float] = {}
-
-    def length_for(height: float) -> float:
-        guess = depths[min(depths, key=lambda h: abs(h - height))] if depths else None
-        try:
-            depths[height] = _depth_for_clearance(w, c, r, height, lattice, guess=guess)
-        except InputError:
-            return math.inf  # no depth clears the neighbours at this head height
-        return 4 * _loop_curves(LoopShape(w, c, r, height, depths[height]))[2].arc_length()
-
-    if head_height is not None:
-        height = check_positive("head_height", head_height, "mm")
-        depth = _depth_for_clearance(w, c, r, height, lattice)
-    else:
-        height = _shortest_head_height(w, c, r, length_for)
-        depth = (
-            depths[height] if height in depths else _depth_for_clearance(w, c, r, height, lattice)
+    smallest, largest = shoulder_radius_bounds(w, c, r)
+    if largest < smallest:
+        raise _no_loop(
+            w, c, r, f"course_height must be >= {2 * SHOULDER_ASPECT:g} r = {2 * smallest:.4g} mm"
         )
-    curves = _loop_curves(LoopShape(w, c, r, height, depth))
-    closest = chain_clearance(curves, lattice, ADJACENT_ARC_FACTOR * r)
+    search = _ShapeSearch(w, c, r)
+    if shoulder_radius is None:
+        rho = search.shortest()
+    else:
+        rho = check_range("shoulder_radius", shoulder_radius, smallest, largest, "mm")
+    depth = search.depth(rho)
+    if not math.isfinite(depth):
+        raise _no_loop(w, c, r, f"no depth up to {MAX_DEPTH_FACTOR:g} r for rho = {rho:.4g} mm")
+    shape = LoopShape(w, c, r, rho, depth)
+    curves = shape.curves()
+    closest = search.clearance(curves)
     return LoopGeometry(
         wale_width=w,
         course_height=c,
         minimal_radius=r0,
         yarn_radius=r,
         radius_adjusted=r < r0,
-        shape_parameter=height,
-        depth=depth,
+        shape_parameter=rho,
+        depth=shape.depth,
         curves=curves,
         loop_length=4 * curves[2].arc_length(),
         min_clearance=closest.distance,
         closest=closest,
-        lattice=lattice,
+        lattice=search.lattice,
     )
 
 
-def _shortest_head_height(w: float, c: float, r: float, length_for) -> float:
-    """The head height of the shortest loop: a scan, then Brent's method around its best point."""
-    lowest = c / 2 + SHOULDER_RADIUS_FACTOR * r
-    grid = lowest + r * np.linspace(0.02, 2.5, _HEIGHT_SCAN)
-    lengths = np.array([length_for(height) for height in grid])
-    if not np.isfinite(lengths).any():
-        raise InputError(
-            f"no loop fits: with yarn_radius={r:.4g} mm no loop clears its neighbours for "
-            f"wale_width={w:.4g} mm and course_height={c:.4g} mm"
-        )
-    best = int(np.argmin(lengths))
-    bracket = (grid[max(best - 1, 0)], grid[min(best + 1, grid.size - 1)])
-    optimum = scipy.optimize.minimize_scalar(
-        length_for, bounds=bracket, method="bounded", options={"xatol": 1e-4 * r}
-    )
-    return float(optimum.x) if optimum.fun <= lengths[best] else float(grid[best])
+class _ShapeSearch:
+    """The depth each shoulder radius needs, and the shoulder radius of the shortest loop (mm).
 
-
-def _depth_for_clearance(
-    w: float, c: float, r: float, height: float, lattice, *, guess: float | None = None
-) -> float:
-    """Smallest depth delta for which the loop clears all its neighbours by 2r (mm).
-
-    The construction has contacts at exactly 2r built in (shoulder against the sinker loop of
-    the course above, and against the next wale's head when r = w/8), so the clearance is at
-    most 2r and the depth is the edge of the set where it equals 2r: found by bisection to
-    1e-4 r, bracketed around `guess` when one is given.
+    Remembers the depths found: the depth of the nearest shoulder radius seeds the next search.
     """
 
-    def clears(depth: float) -> bool:
-        curves = _loop_curves(LoopShape(w, c, r, height, depth))
-        distance = chain_clearance(curves, lattice, ADJACENT_ARC_FACTOR * r).distance
-        return distance >= 2 * r * (1 - _CLEARANCE_TOLERANCE)
+    def __init__(self, w: float, c: float, r: float):
+        self.w, self.c, self.r = w, c, r
+        self.lattice = np.array([[w, 0.0, 0.0], [0.0, c, 0.0]])
+        self.depths: dict[float, float] = {}
 
-    low, high = 0.5 * r, 12.0 * r
-    if guess is not None and clears(min(guess + 0.2 * r, high)):
-        high = min(guess + 0.2 * r, high)
-        if not clears(max(guess - 0.2 * r, low)):
-            low = max(guess - 0.2 * r, low)
-    if not clears(high):
-        raise InputError(
-            f"no loop fits: with yarn_radius={r:.4g} mm no loop of head height {height:.4g} mm "
-            f"clears its neighbours for wale_width={w:.4g} mm, course_height={c:.4g} mm"
+    def clearance(self, curves: tuple[BSplineCurve, ...]) -> ChainClearance:
+        # the loop's symmetries map every curve onto curve 2 (docs/geometry.md)
+        return chain_clearance(curves, self.lattice, ADJACENT_ARC_FACTOR * self.r, from_curve=2)
+
+    def excess(self, rho: float, depth: float) -> float:
+        """clearance / 2r - 1 of the fitted loop (>= 0: the yarns do not interpenetrate)."""
+        curves = LoopShape(self.w, self.c, self.r, rho, depth).curves()
+        return self.clearance(curves).distance / (2 * self.r) - 1
+
+    def depth(self, rho: float) -> float:
+        """The smallest depth for which the loop clears its neighbours by 2r (inf if none)."""
+        if rho not in self.depths:
+            known = min(self.depths, key=lambda other: abs(other - rho), default=None)
+            guess = 2 * self.r if known is None else self.depths[known]
+            if not math.isfinite(guess):
+                guess = 2 * self.r
+            self.depths[rho] = _smallest_clear_depth(
+                lambda depth: self.excess(rho, depth), self.r, guess
+            )
+        return self.depths[rho]
+
+    def length(self, rho: float) -> float:
+        """Length of the B-spline loop at its smallest clear depth (inf if none)."""
+        depth = self.depth(rho)
+        if not math.isfinite(depth):
+            return math.inf
+        return 4 * LoopShape(self.w, self.c, self.r, rho, depth).curves()[2].arc_length()
+
+    def shortest(self) -> float:
+        """The shoulder radius of the shortest loop: a scan, then Brent's method around it."""
+        r = self.r
+        bounds = shoulder_radius_bounds(self.w, self.c, r)
+        for scan in (_SHOULDER_SCAN, _FINE_SHOULDER_SCAN):
+            grid = np.unique(np.clip(r * np.array(scan), *bounds))
+            lengths = np.empty(grid.size)
+            for k in np.argsort(np.abs(grid - np.median(grid))):  # the middle first: its
+                lengths[k] = self.length(grid[k])  # depth is the best guess for the others
+            if np.isfinite(lengths).any():
+                break
+        else:
+            raise _no_loop(
+                self.w,
+                self.c,
+                r,
+                f"no depth up to {MAX_DEPTH_FACTOR:g} r for any shoulder radius; the model "
+                f"needs course_height >= about 4 r = {4 * r:.4g} mm",
+            )
+        best = int(np.argmin(lengths))
+        bracket = (grid[max(best - 1, 0)], grid[min(best + 1, grid.size - 1)])
+        if bracket[0] == bracket[1]:
+            return float(grid[best])
+        penalty = 2 * lengths[best]  # for inf (no depth fits), which Brent's parabolas cannot use
+        optimum = scipy.optimize.minimize_scalar(
+            lambda rho: min(self.length(rho), penalty),
+            bounds=bracket,
+            method="bounded",
+            options={"xatol": _SHOULDER_TOLERANCE * r},
         )
-    if clears(low):
-        return low
-    while high - low > 1e-4 * r:
-        middle = 0.5 * (low + high)
-        low, high = (low, middle) if clears(middle) else (middle, high)
-    return high
+        return float(optimum.x) if optimum.fun <= lengths[best] else float(grid[best])
 
 
-def _loop_curves(shape: LoopShape) -> tuple[BSplineCurve, ...]:
-    quarter = _fit_quarter(shape)
-    return mirrored_loop(quarter, shape.wale_width)
+def _no_loop(w: float, c: float, r: float, reason: str) -> InputError:
+    return InputError(
+        f"no loop fits: with yarn_radius={r:.4g} mm no loop clears its neighbours by 2r for "
+        f"wale_width={w:.4g} mm and course_height={c:.4g} mm ({reason})"
+    )
+
+
+def _smallest_clear_depth(excess, r: float, guess: float) -> float:
+    """The smallest depth d with excess(d) >= 0, to _DEPTH_TOLERANCE r, or inf (mm).
+
+    Below it the clearance is a smooth distance that grows with d (the crown of the course
+    below passing behind the legs); above it the clearance is exactly 2r (the contacts at W,
+    built into the construction), so excess is a plateau at 0 and carries no slope. The root
+    is therefore predicted by the secant through the two deepest infeasible depths, and the
+    next depth aimed a margin past it, so that a good prediction closes the bracket; the margin
+    grows 4-fold whenever the aim falls short (where the distance meets 2r tangentially the
+    secant converges only linearly). Bracketing steps grow 2-fold; bisection is the safeguard.
+    """
+    tolerance = _DEPTH_TOLERANCE * r
+    below: list[tuple[float, float]] = []  # infeasible (depth, excess), deepest first
+    clear = math.inf  # the shallowest depth found to clear
+    step = 0.02 * r
+    margin = 0.5 * tolerance
+    aimed = False  # whether `depth` is a secant prediction
+    depth = guess
+    for _ in range(_DEPTH_ITERATIONS):
+        value = excess(depth)
+        if value >= -_ROUND_OFF:
+            clear = depth
+        else:
+            below = [(depth, value), *below][:2]
+            margin *= 4 if aimed else 1
+        if not below:  # all clear so far: go shallower (staying > 0)
+            depth, step = max(clear - step, 0.5 * clear), 2 * step
+            aimed = False
+            continue
+        deepest = below[0][0]
+        if clear - deepest <= tolerance:
+            return clear
+        root = None
+        if len(below) == 2:
+            (d1, v1), (d0, v0) = below
+            slope = (v1 - v0) / (d1 - d0)
+            root = d1 - v1 / slope + margin if slope > 0 else None
+        if math.isfinite(clear):
+            aimed = root is not None and deepest < root < clear
+            depth = root if aimed else 0.5 * (deepest + clear)
+        else:  # none clear yet: go deeper
+            aimed = root is not None and deepest < root < deepest + step
+            depth = root if aimed else deepest + step
+            step *= 2
+            if depth > MAX_DEPTH_FACTOR * r:
+                return math.inf
+    return clear
 
 
 def mirrored_loop(quarter: BSplineCurve, wale_width: float) -> tuple[BSplineCurve, ...]:
@@ -376,8 +491,8 @@ def mirrored_loop(quarter: BSplineCurve, wale_width: float) -> tuple[BSplineCurv
 
 
 class Condition(NamedTuple):
-    """A linear condition on one coordinate of the quarter: derivative `order` at parameter
-    `at` equals `value` (mm)."""
+    """A linear condition on one coordinate of the quarter: its derivative of order `order` at
+    the parameter `at` equals `value` (mm)."""
 
     at: float
     order: int
@@ -403,57 +518,58 @@ def symmetry_conditions(wale_width: float) -> tuple[tuple[Condition, ...], ...]:
     )
 
 
+def condition_rows(conditions: tuple[Condition, ...]) -> np.ndarray:
+    """The conditions as rows acting on one coordinate of the quarter's control points, (k, 12)."""
+    rows = _basis_rows([condition.at for condition in conditions])
+    orders = [condition.order for condition in conditions]
+    return rows[orders, np.arange(len(conditions))]
+
+
 def _fit_quarter(shape: LoopShape) -> BSplineCurve:
     """Constrained least-squares fit of the quarter: 12 control points, degree 4.
 
     The `symmetry_conditions` make the mirrored loop C2. The curve also passes through the
-    shoulder's outermost point with x' = 0 there, so that the built-in contacts are exactly 2r
-    in the spline as in the analytic model.
+    widest point W with x' = 0 there, so that the built-in contacts are exactly 2r in the
+    spline as in the analytic model.
     """
     sampled = shape.quarter_samples(_fit_fractions())
-    if sampled is None:
-        raise InputError(
-            f"no loop fits: head_height={shape.head_height:.4g} mm gives no three-section "
-            f"quarter for wale_width={shape.wale_width:.4g} mm"
-        )
     knots = open_knot_vector(DEGREE, CONTROL_POINTS)
     design = _design_matrix()
-    at, point = sampled.shoulder_fraction, sampled.shoulder
-    shoulder = (
-        (Condition(at, 0, point[0]), Condition(at, 1, 0.0)),
-        (Condition(at, 0, point[1]),),
-        (Condition(at, 0, point[2]),),
+    at, widest = sampled.shoulder_fraction, sampled.shoulder
+    pinned = (
+        (Condition(at, 0, widest[0]), Condition(at, 1, 0.0)),
+        (Condition(at, 0, widest[1]),),
+        (Condition(at, 0, widest[2]),),
     )
-    conditions = symmetry_conditions(shape.wale_width)
     control = np.empty((CONTROL_POINTS, 3))
     n = CONTROL_POINTS
-    for axis in range(3):
-        axis_conditions = conditions[axis] + shoulder[axis]
-        constraint = condition_rows(knots, axis_conditions)
-        k = len(axis_conditions)
+    for axis, symmetric in enumerate(symmetry_conditions(shape.wale_width)):
+        conditions = symmetric + pinned[axis]
+        k = len(conditions)
         kkt = np.zeros((n + k, n + k))
         kkt[:n, :n] = design.T @ design
-        kkt[:n, n:] = constraint.T
-        kkt[n:, :n] = constraint
+        kkt[:n, n:] = condition_rows(conditions).T
+        kkt[n:, :n] = condition_rows(conditions)
         rhs = np.concatenate(
-            [design.T @ sampled.points[:, axis], [condition.value for condition in axis_conditions]]
+            [design.T @ sampled.points[:, axis], [condition.value for condition in conditions]]
         )
         control[:, axis] = np.linalg.solve(kkt, rhs)[:n]
     return BSplineCurve(DEGREE, knots, control)
 
 
-def condition_rows(knots: np.ndarray, conditions: tuple[Condition, ...]) -> np.ndarray:
-    """The conditions as rows acting on one coordinate of the control points, (k, n)."""
-    return np.vstack(
-        [
-            basis_matrix(knots, DEGREE, np.array([condition.at]), condition.order).toarray()
-            for condition in conditions
-        ]
-    )
-
-
 def _fit_fractions() -> np.ndarray:
     return np.linspace(0.0, 1.0, _FIT_SAMPLES)
+
+
+def _basis_rows(params) -> np.ndarray:
+    """Basis functions of the quarter and their first two derivatives at `params`, dense
+    (3, m, control points)."""
+    knots = open_knot_vector(DEGREE, CONTROL_POINTS)
+    basis = basis_functions(knots, DEGREE, np.asarray(params, dtype=float), 2)
+    rows = np.zeros((3, basis.spans.size, CONTROL_POINTS))
+    columns = basis.spans[:, None] - DEGREE + np.arange(DEGREE + 1)
+    rows[:, np.arange(basis.spans.size)[:, None], columns] = basis.values
+    return rows
 
 
 @cache

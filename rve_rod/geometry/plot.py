@@ -43,7 +43,13 @@ def plot_loop(geometry: LoopGeometry, path: str | Path) -> Path:
         ylabel="y, wale-wise (mm)",
         title="face (x/y)",
     )
-    side.set(aspect="equal", xlabel="y (mm)", ylabel="z (mm)", title="side (y/z), one wale")
+    side.set(
+        xlim=(-1.5 * c, 1.5 * c),
+        aspect="equal",
+        xlabel="y (mm)",
+        ylabel="z (mm)",
+        title="side (y/z), one wale",
+    )
     view.set(xlabel="x", ylabel="y", zlabel="z", title="3D")
     view.set_box_aspect((3 * w, 3 * c, max(4 * geometry.depth, w)))
     figure.suptitle(

@@ -15,7 +15,7 @@ from typing import NamedTuple
 import numpy as np
 import scipy.spatial
 
-from rve_rod.errors import InputError
+from rve_rod.errors import InputError, check_integer
 from rve_rod.geometry.bspline import BasisValues, BSplineCurve, basis_functions
 
 _SAMPLES_PER_CURVE = 48
@@ -76,7 +76,7 @@ def chain_clearance(
     lattice: np.ndarray,
     adjacent_arc: float,
     *,
-    courses_only: bool = False,
+    from_curve: int | None = None,
 ) -> ChainClearance:
     """Smallest distance between the chain and its images (or itself, non-adjacent parts).
 
@@ -85,9 +85,12 @@ def chain_clearance(
             and knots (mm).
         lattice: (2, 3) lattice vectors a1 (along the yarn's period) and a2 (mm).
         adjacent_arc: parts of the yarn closer than this in arc length are skipped (mm).
-        courses_only: only the images shifted by j a2 with j >= 1 (the other courses).
+        from_curve: only the pairs whose first point lies on this curve, against the images
+            i a1 + j a2 with |i| <= 1, |j| <= 2: enough for a yarn whose symmetries map every
+            curve onto this one (the loop's curve 2: docs/geometry.md).
 
-    Images (-i, -j) mirror (i, j) and are not searched separately.
+    Without `from_curve` the images are (0, 0), (1, 0) and |i| <= 1, 1 <= j <= 2: the images
+    (-i, -j) mirror (i, j) and are not searched separately.
     """
     lattice = np.asarray(lattice, dtype=float)
     chain = _Chain(tuple(curves), lattice[0])
@@ -97,17 +100,21 @@ def chain_clearance(
     steps = np.linalg.norm(np.diff(points, axis=0, append=points[:1] + lattice[0]), axis=1)
     arc = np.concatenate([[0.0], np.cumsum(steps)[:-1]])
     period_length = steps.sum()
-    images = [(i, j) for j in (1, 2) for i in (-1, 0, 1)]
-    if not courses_only:
-        images = [(0, 0), (1, 0), *images]
+    if from_curve is None:
+        images = [(0, 0), (1, 0), *((i, j) for j in (1, 2) for i in (-1, 0, 1))]
+        chosen = np.arange(s.size)
+    else:
+        check_integer("from_curve", from_curve, 0, n - 1)
+        images = [(i, j) for j in range(-2, 3) for i in (-1, 0, 1)]
+        chosen = np.arange(_SAMPLES_PER_CURVE) + from_curve * _SAMPLES_PER_CURVE
     offsets = np.array([i * lattice[0] + j * lattice[1] for i, j in images])
     shifted = (points[None, :, :] + offsets[:, None, :]).reshape(-1, 3)
-    distances = scipy.spatial.distance.cdist(points, shifted).reshape(
-        points.shape[0], len(images), points.shape[0]
+    distances = scipy.spatial.distance.cdist(points[chosen], shifted).reshape(
+        chosen.size, len(images), points.shape[0]
     )
     for k, (i, j) in enumerate(images):
         if j == 0:  # along the yarn, the image (i, 0) is the same yarn i periods further on
-            along = np.abs(arc[:, None] - (arc[None, :] + i * period_length))
+            along = np.abs(arc[chosen, None] - (arc[None, :] + i * period_length))
             distances[:, k, :][along < adjacent_arc] = np.inf
     nearest = distances.min(axis=2)  # (samples, images): distance to the nearest image sample
     overall = nearest.min()
@@ -115,12 +122,14 @@ def chain_clearance(
     # minimum along the yarn within that of the best may hide the true minimum
     slack = 2 * steps.max() ** 2 / max(overall, 1e-300) + 1e-3 * overall
     previous, following = np.roll(nearest, 1, axis=0), np.roll(nearest, -1, axis=0)
+    if from_curve is not None:  # one open curve: its end samples have one neighbour
+        previous[0] = following[-1] = np.inf
     local = (nearest <= previous) & (nearest <= following) & (nearest <= overall + slack)
     rows, columns = np.nonzero(local)
     shifts = np.array([images[k][0] for k in columns])
     partners = np.array([np.argmin(distances[a, k]) for a, k in zip(rows, columns, strict=True)])
     offsets = np.array([images[k][1] * lattice[1] for k in columns])
-    found, first, second = _refine(chain, s[rows], s[partners] + shifts * n, offsets)
+    found, first, second = _refine(chain, s[chosen][rows], s[partners] + shifts * n, offsets)
     best = int(np.argmin(found))
     return ChainClearance(
         float(found[best]),
@@ -142,9 +151,10 @@ def _refine(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Local minima of |X(s) - X(t) - offset| near each pair (s, t), all pairs at once.
 
-    Newton's method with a trust region of four sample spacings and step halving: nearly
-    parallel yarns make the distance flat along the yarns, so a minimum may lie several
-    samples away from its sampled pair. Returns (distances, s, t), each of shape (k,).
+    Newton's method (saddle-free: the Hessian's eigenvalues by their magnitudes) with a trust
+    region of four sample spacings and step halving: nearly parallel or wrapping yarns make
+    the distance flat along a valley, so a minimum may lie several samples away from its
+    sampled pair. Returns (distances, s, t), each of shape (k,).
     """
     k = s.size
 
@@ -163,25 +173,18 @@ def _refine(
         d = values[0, :k] - values[0, k:] - offsets
         xs, xt = values[1, :k], values[1, k:]
         gradient = np.stack([np.sum(d * xs, 1), -np.sum(d * xt, 1)], axis=1)
-        cross = -np.sum(xs * xt, 1)
-        h11 = np.sum(xs * xs, 1) + np.sum(d * values[2, :k], 1)
-        h22 = np.sum(xt * xt, 1) - np.sum(d * values[2, k:], 1)
-        determinant = h11 * h22 - cross**2
-        convex = (determinant > 0) & (h11 > 0)
-        safe = np.where(convex, determinant, 1.0)
-        newton = (
-            -np.stack(
-                [
-                    h22 * gradient[:, 0] - cross * gradient[:, 1],
-                    h11 * gradient[:, 1] - cross * gradient[:, 0],
-                ],
-                axis=1,
-            )
-            / safe[:, None]
-        )
-        # where the distance is not convex: steepest descent scaled by the diagonal curvature
-        descent = -gradient / np.maximum(np.abs(h11), np.abs(h22))[:, None]
-        step = np.where(convex[:, None], newton, descent)
+        hessian = np.empty((k, 2, 2))
+        hessian[:, 0, 0] = np.sum(xs * xs, 1) + np.sum(d * values[2, :k], 1)
+        hessian[:, 1, 1] = np.sum(xt * xt, 1) - np.sum(d * values[2, k:], 1)
+        hessian[:, 0, 1] = hessian[:, 1, 0] = -np.sum(xs * xt, 1)
+        # Newton's step with the Hessian's eigenvalues replaced by their magnitudes: the same
+        # where the distance is convex, and a descent step that follows the negative
+        # curvature where it is not (a yarn wrapping around another at about the distance
+        # gives long, curved valleys in which steepest descent crawls)
+        curvature, axes = np.linalg.eigh(hessian)
+        magnitude = np.maximum(np.abs(curvature), 1e-12 * np.abs(curvature).max(1, keepdims=True))
+        along = np.einsum("kji,kj->ki", axes, gradient) / np.maximum(magnitude, 1e-300)
+        step = -np.einsum("kij,kj->ki", axes, along)
         largest = np.abs(step).max(axis=1)
         step *= np.minimum(1.0, limit / np.maximum(largest, 1e-300))[:, None]
         step[~active] = 0.0

@@ -59,7 +59,7 @@ def test_face_shows_the_legs_on_top_and_back_the_heads():
     settings = {"pixels_per_mm": 50.0, "width_px": 100, "height_px": 100}
     face = SyntheticPhoto(*LOOP, **settings)
     back = SyntheticPhoto(*LOOP, side="back", **settings)
-    head_height = face.loop().shape_parameter
+    head_height = face.loop().course_height / 2 + face.loop().shape_parameter
     leg, apex = pixel_of(face, 0.25, 0.0), pixel_of(back, 0.0, -head_height)
     face_image, back_image = render_photo(face), render_photo(back)
     top = 0.15 + 0.55 + 0.3 * math.sqrt(2.0 / 3.0)

@@ -31,3 +31,18 @@ def test_curves_of_a_chain_must_share_knots():
     other = BSplineCurve(4, open_knot_vector(4, 10), np.zeros((10, 3)))
     with pytest.raises(InputError, match="share degree and knots"):
         chain_clearance([*curves[:3], other], np.eye(3)[:2], 1.0)
+
+
+@pytest.mark.parametrize("curve", range(4))
+def test_search_from_one_curve_of_a_symmetric_chain_finds_the_same_distance(curve):
+    # a straight yarn: a shift along it by a quarter period maps every curve onto the next
+    period = np.array([2.0, 0.6, 0.0])
+    lattice = np.array([period, [0.0, 0.7, 0.0]])
+    result = chain_clearance(straight_chain(period), lattice, 1.0, from_curve=curve)
+    assert result.distance == pytest.approx(0.7 / np.sqrt(1 + 0.3**2), rel=1e-12)
+    assert abs(result.image[1]) == 1
+
+
+def test_from_curve_must_be_a_curve_of_the_chain():
+    with pytest.raises(InputError, match="from_curve=4"):
+        chain_clearance(straight_chain(np.array([2.0, 0.0, 0.0])), np.eye(3)[:2], 1.0, from_curve=4)

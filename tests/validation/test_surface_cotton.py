@@ -22,5 +22,7 @@ def test_cotton_surface_residuals_are_bounded(tmp_path):
         for group, stats in report.residuals.items():
             assert stats.max_rel < 0.05, f"{kind} fit, {group}: {stats}"
     assert generated.reports["energy"].tangent_asymmetry < 1e-12
-    # S = F^-1 P is symmetric for a cell in balance; the two-pass contact leaves 0.4 % (docs/rve.md)
-    assert generated.samples.max_asymmetry < 1e-2 * abs(generated.samples.biaxial_stress).max()
+    # S = F^-1 P is symmetric for a cell in balance; the two-pass contact is not (docs/rve.md:
+    # about 2 % error in the shear components). Measured: 0.4 % on the old loop, 1.2 % on the
+    # flatter loop model M, whose head wraps more of the legs above; bound 1.5 %.
+    assert generated.samples.max_asymmetry < 1.5e-2 * abs(generated.samples.biaxial_stress).max()

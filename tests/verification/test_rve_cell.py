@@ -76,9 +76,11 @@ def test_unloaded_cell_stays_in_its_reference_state_with_zero_force(friction):
 
 def test_forces_do_not_depend_on_where_the_yarn_is_cut():
     """Cuts at mirror or glide images of each other give the same discrete cell; other cuts
-    change only the knot layout, i.e. the discretization."""
+    change only the knot layout, i.e. the discretization. The cuts stay in the contact-free
+    arc around the leg point L (quarter curve 1), which on this loop reaches to about 0.85
+    at 20 % (a cut at 0.8 is touched at 20 %)."""
     finals = {}
-    for cut in (1.0, 3.0, 0.9, 1.1, 0.8):
+    for cut in (1.0, 3.0, 0.9, 1.1, 0.85):
         chosen = settings(cut=cut)
         cell = build_cell(CURVES, FABRIC, load_case("uniaxial-course", 0.2, 5), chosen)
         result = run_cell(cell, FABRIC, chosen)
@@ -87,7 +89,7 @@ def test_forces_do_not_depend_on_where_the_yarn_is_cut():
         finals[cut] = np.array([result.steps[-1].first_piola[0, 0], result.poisson_ratio])
     assert np.abs(finals[3.0] / finals[1.0] - 1).max() < 1e-8  # glide image (x + w/2, -y)
     assert np.abs(finals[1.1] / finals[0.9] - 1).max() < 1e-8  # 2-fold rotation about L
-    assert np.abs(finals[0.8] / finals[1.0] - 1).max() < 2e-2  # other knots
+    assert np.abs(finals[0.85] / finals[1.0] - 1).max() < 2e-2  # other knots
 
 
 def stored_energy(cell, state, load_factor):
@@ -153,10 +155,12 @@ UNLOADED = 0.98
 """Load factor of `loaded_state`: back from 15 % to 14.7 % strain."""
 
 
-def loaded_state(name, friction, control_points=12):
+def loaded_state(name, friction, control_points=20):
     """A converged state at 14.7 % strain whose friction anchors are those of 15 %. Under
     monotonic loading every contact slides (its elastic slip stays on the Coulomb cone); on the
-    reversal some contacts stick and some slip, so both branches of the friction law act."""
+    reversal some contacts stick and some slip, so both branches of the friction law act.
+    20 control points per quarter loop: at 12 the flat loop's contacts are under-resolved and
+    Newton on this path stalls (wale-wise at t = 0.73, course-wise with friction at t = 0.98)."""
     chosen = settings(friction, control_points)
     cell = build_cell(CURVES, FABRIC, load_case(name, 0.15, 4), chosen)
     previous = solve_path(cell.problem(), cell.reference_state(), [1 / 3, 2 / 3, 1.0]).final_state
