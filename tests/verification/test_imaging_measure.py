@@ -5,6 +5,7 @@ sample, rotations up to 15 degrees, noise, blur and uneven lighting; angle withi
 (our stated tolerance). Bad photos raise InputError instead of returning a guess.
 """
 
+import logging
 import math
 
 import numpy as np
@@ -127,14 +128,16 @@ def test_centred_looking_pattern_reports_the_rectangular_cell():
     assert estimate.course_height == pytest.approx(c, rel=1e-3)
 
 
-def test_small_photo_where_the_spectrum_alone_gives_half_a_wale():
-    # 3.2 loops across: the odd harmonics drown, the spectrum's lattice is (w/2, c); the
+def test_small_photo_where_the_spectrum_alone_gives_half_a_wale(caplog):
+    # 3.2 wales across: the odd harmonics drown, the spectrum's lattice is (w/2, c); the
     # real-space periodicity check doubles it.
     w, c, r, scale = 1.26, 0.88, 0.19, 30.0
     photo = SyntheticPhoto(
-        w, c, r, pixels_per_mm=scale, width_px=120, height_px=84, noise=0.1, blur_mm=0.03, seed=32
+        w, c, r, pixels_per_mm=scale, width_px=120, height_px=96, noise=0.1, blur_mm=0.03, seed=32
     )
-    estimate = measure_photo(render_photo(photo), scale)
+    with caplog.at_level(logging.INFO, logger="rve_rod.imaging.lattice"):
+        estimate = measure_photo(render_photo(photo), scale)
+    assert "repeats with a cell 2 times the spectrum's" in caplog.text
     assert estimate.wale_width == pytest.approx(w, rel=0.02)
     assert estimate.course_height == pytest.approx(c, rel=0.02)
     assert estimate.wales_in_image == pytest.approx(120 / (w * scale), rel=0.02)
