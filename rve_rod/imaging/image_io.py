@@ -37,6 +37,14 @@ def to_grayscale(image: np.ndarray) -> np.ndarray:
     return array
 
 
+def block_mean(image: np.ndarray, factor: int) -> np.ndarray:
+    """The image (H, W) averaged over factor x factor blocks, shape (H // factor, W // factor)
+    (a remainder of rows and columns is dropped)."""
+    height, width = (image.shape[0] // factor) * factor, (image.shape[1] // factor) * factor
+    blocks = image[:height, :width].reshape(height // factor, factor, width // factor, factor)
+    return blocks.mean(axis=(1, 3))
+
+
 def read_image(path: str | os.PathLike) -> np.ndarray:
     """The photo at `path` as a float64 grayscale array (H, W); InputError if unreadable."""
     try:

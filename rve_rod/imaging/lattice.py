@@ -22,20 +22,24 @@ u + v, u - v is the fabric's (`fabric_cell`).
 """
 
 import logging
+import math
 from typing import NamedTuple
 
 import numpy as np
 import scipy.ndimage
 
 from rve_rod.errors import InputError
+from rve_rod.imaging.autocorrelation import shift_correlation, strongest_repeat
 
 logger = logging.getLogger(__name__)
 
 MIN_INDEXED = 3
 """Fewest peaks a lattice must index: two independent peaks fit any lattice containing them."""
 
-MIN_OVERLAP = 0.05
-"""Smallest overlap (fraction of the photo) of a shifted photo worth a correlation."""
+REPEAT_OVERLAP = 0.3
+"""Smallest overlap (fraction of the photo) of the shifts searched for the photo's best
+repeat: a true period of a photo of 3 x 3 loops overlaps 4/9 of it or more (along a
+diagonal), while the correlation over much smaller overlaps scatters by chance."""
 
 
 class LatticeFit(NamedTuple):
@@ -184,7 +188,11 @@ class Periods(NamedTuple):
 
 
 def confirm_periods(
-    contrast: np.ndarray, real_basis: np.ndarray, min_correlation: float, ratio: float = 0.7
+    contrast: np.ndarray,
+    real_basis: np.ndarray,
+    min_correlation: float,
+    ratio: float = 0.7,
+    repeat_ratio: float = 0.5,
 ) -> Periods:
     """The true periods of the image, starting from the spectrum's lattice (2, 2).
 
@@ -192,9 +200,17 @@ def confirm_periods(
     finer than the fabric's (e.g. w/2 from the two legs of a loop). The image is smoothed
     (Gaussian, 1/6 of the shortest period, so that pixel noise does not mask it) and
     correlated with itself shifted by a lattice vector v and by 2 v. The vector passes if
-    its correlation is at least `min_correlation` and `ratio` times the larger of that at
-    2 v and the best seen for any vector tried so far (what a true period reaches in this
-    photo); it fails if it is below `ratio` times that.
+    its correlation is at least `min_correlation`, `ratio` times the larger of that at 2 v
+    and the best seen for any vector tried so far (what a true period reaches in this
+    photo), and `repeat_ratio` times the photo's best repeat (the highest maximum of its
+    autocorrelation over all shifts overlapping REPEAT_OVERLAP of it); it fails if it is
+    below either of the latter two. The best repeat makes the check independent of the
+    spectrum's lattice: if the spectrum shows only harmonics of the loops (e.g. (2, 0),
+    (4, 0) and (1, 5) in a photo of 2.3 courses), its lattice is finer by an index that no
+    coarsening below tries, none of its vectors nor their doubles is a period, and they
+    correlate alike (about 0.3), but the photo's own period correlates near 1. Its ratio is
+    the lower one because it is the maximum over many shifts, which noise biases upwards
+    (a true lattice vector of a noisy photo reached 0.71 of it, a harmonic lattice's 0.32).
 
     A lattice passes if two of its vectors a1, a2, a1 + a2 pass (noise can make one vector
     of the right lattice fail marginally; a lattice too fine by index 2 fails on two). The
@@ -207,12 +223,14 @@ def confirm_periods(
     basis = np.array(real_basis, dtype=float)
     shortest = min(np.linalg.norm(basis[:, 0]), np.linalg.norm(basis[:, 1]))
     smooth = scipy.ndimage.gaussian_filter(contrast, shortest / 6.0)
+    repeat = strongest_repeat(smooth, REPEAT_OVERLAP)
+    floor = repeat_ratio * repeat.correlation if repeat is not None else -np.inf
     correlation_of: dict[tuple[float, float], float] = {}
 
     def correlation(vector: np.ndarray) -> float:
         key = (round(float(vector[0]), 6), round(float(vector[1]), 6))
         if key not in correlation_of:
-            correlation_of[key] = _shift_correlation(smooth, vector)
+            correlation_of[key] = shift_correlation(smooth, vector)
         return correlation_of[key]
 
     def evaluate(coarse: np.ndarray):
@@ -226,18 +244,20 @@ def confirm_periods(
         # What a true period reaches in this photo: the best correlation of any shift tried.
         # (Of a lattice too fine by index 2 or 4, one of 2 u, 2 v, 2 (u + v) is a period.)
         reference = np.fmax(references, np.nanmax(list(correlation_of.values())))
+        threshold = np.fmax(ratio * reference, floor)
         # NaN (too little overlap) compares False: such a vector neither passes nor fails.
-        passed = (values >= ratio * reference) & (values >= min_correlation)
-        return passed, values < ratio * reference, reference
+        passed = (values >= threshold) & (values >= min_correlation)
+        return passed, values < threshold, reference
 
-    spectral, values, references = evaluate(np.eye(2, dtype=int))
-    passed, failed, _ = judge(values, references)
+    spectral, spectral_values, references = evaluate(np.eye(2, dtype=int))
+    passed, failed, _ = judge(spectral_values, references)
     if np.count_nonzero(passed) >= 2:
-        return Periods(spectral, values)
+        return Periods(spectral, spectral_values)
     if np.count_nonzero(failed) < 2:
         raise InputError(
             "no periodic structure: the photo hardly repeats with the lattice vectors of its "
-            f"spectrum (correlations {_listing(values)}, at least {min_correlation:g} needed)"
+            f"spectrum (correlations {_listing(spectral_values)}, at least "
+            f"{min_correlation:g} needed)"
         )
     for index in (2, 4):
         candidates = [evaluate(coarse) for coarse in _sublattices(index)]
@@ -250,9 +270,15 @@ def confirm_periods(
             logger.info("the photo repeats with a cell %d times the spectrum's", index)
             _, chosen, values = max(passing, key=lambda item: item[0])
             return Periods(chosen, values)
+    best = ""
+    if repeat is not None:
+        shift = ", ".join(f"{component:.0f}" for component in repeat.shift)
+        best = (
+            f"; its best repeat is a shift of ({shift}) px (correlation {repeat.correlation:.2f})"
+        )
     raise InputError(
         "no periodic structure: the photo does not repeat with the lattice of its spectrum "
-        "(nor with a lattice of 2 or 4 times its cell)"
+        f"(correlations {_listing(spectral_values)}) nor with one of 2 or 4 times its cell{best}"
     )
 
 
@@ -287,23 +313,49 @@ def refit_on(frequencies: np.ndarray, fit: LatticeFit, real_basis: np.ndarray) -
     return LatticeFit(basis, indices, fit.indexed, covariance, rms)
 
 
-def fabric_cell(real_basis: np.ndarray, rhombic_tolerance: float = 0.03) -> FabricCell:
+def fabric_cell(
+    real_basis: np.ndarray, rhombic_tolerance: float = 0.03, skew_tolerance_deg: float = 0.5
+) -> FabricCell:
     """The wale and course vectors of a real-space lattice basis (2, 2) (columns, pixels).
 
     The reduced basis (u, v) is used; the wale vector is the one closer to the image X axis
-    (photos must show the wales within 45 degrees of vertical). A rhombic lattice
-    (|u| = |v| within `rhombic_tolerance`) is also centred rectangular, with the
-    conventional cell (u + v, u - v) along its diagonals; the single-jersey lattice is
-    rectangular, so of the two cells the one whose courses lie closer to the X axis is
-    taken (for a near-square cell this needs the wales within 22.5 degrees of vertical).
+    (photos must show the wales within 45 degrees of vertical). A rhombic lattice (two
+    basis vectors p, q with |p| = |q| within `rhombic_tolerance`) is also centred
+    rectangular, with the conventional cell (p + q, p - q) along its diagonals. The pairs
+    tried are those among the three shortest lattice vectors u, v and u - v (or u + v, the
+    shorter): a centred lattice whose cell has c/w near 1/sqrt(3) (the Vassiliadis
+    sample's 0.58) is nearly hexagonal, all three have about the same length, and each of
+    the three rhombic pairs has its own conventional cell, 60 degrees apart.
+
+    The single-jersey cell is rectangular: of the primitive and the conventional cells,
+    those within `skew_tolerance_deg` of the least skewed are kept (the pairs only nearly
+    equal in length give cells skewed by about 0.65 degree per 1 % of length difference),
+    and of these the one whose courses lie closest to the X axis is taken. For a
+    near-square cell this needs the wales within 22.5 degrees of vertical, for a cell
+    with c/w within 1 % of 1/sqrt(3) within 15 degrees.
     """
     u, v = reduce_basis(real_basis[:, 0], real_basis[:, 1])
-    cell = _oriented(u, v, centred=False)
-    if abs(np.linalg.norm(u) - np.linalg.norm(v)) <= rhombic_tolerance * np.linalg.norm(v):
-        conventional = _oriented(u + v, u - v, centred=True)
-        if abs(_angle(conventional.wale_vector)) < abs(_angle(cell.wale_vector)):
-            return conventional
-    return cell
+    third = u - v if np.linalg.norm(u - v) <= np.linalg.norm(u + v) else u + v
+    cells = [_oriented(u, v, centred=False)]
+    for p, q in ((u, v), (u, third), (v, third)):
+        lengths = np.linalg.norm(p), np.linalg.norm(q)
+        if abs(lengths[0] - lengths[1]) <= rhombic_tolerance * max(lengths):
+            cells.append(_oriented(p + q, p - q, centred=True))
+    skews = [_skew_deg(cell) for cell in cells]
+    rectangular = [
+        cell
+        for cell, skew in zip(cells, skews, strict=True)
+        if skew <= min(skews) + skew_tolerance_deg
+    ]
+    # The first of equally aligned cells: the primitive one unless a conventional one is better.
+    return min(rectangular, key=lambda cell: abs(_angle(cell.wale_vector)))
+
+
+def _skew_deg(cell: FabricCell) -> float:
+    """Deviation (degrees) of the angle between the cell's vectors from 90 degrees."""
+    wale, course = cell.wale_vector, cell.course_vector
+    cosine = wale @ course / (np.linalg.norm(wale) * np.linalg.norm(course))
+    return abs(math.degrees(math.asin(np.clip(cosine, -1.0, 1.0))))
 
 
 def _oriented(first: np.ndarray, second: np.ndarray, centred: bool) -> FabricCell:
@@ -319,21 +371,6 @@ def _oriented(first: np.ndarray, second: np.ndarray, centred: bool) -> FabricCel
 
 def _angle(vector: np.ndarray) -> float:
     return float(np.arctan2(vector[1], vector[0]))
-
-
-def _shift_correlation(image: np.ndarray, shift: np.ndarray) -> float:
-    """Correlation coefficient of the image with itself shifted by (X, Y) pixels (Y up).
-
-    NaN if the overlap is under MIN_OVERLAP of the image (too few pixels to tell).
-    """
-    moved = scipy.ndimage.shift(image, (-shift[1], shift[0]), order=1, mode="constant", cval=np.nan)
-    overlap = np.isfinite(moved)
-    if overlap.sum() < max(16, MIN_OVERLAP * image.size):
-        return np.nan
-    first, second = image[overlap], moved[overlap]
-    first, second = first - first.mean(), second - second.mean()
-    norm = np.sqrt((first @ first) * (second @ second))
-    return float(first @ second / norm) if norm > 0 else 0.0
 
 
 def _candidate_vectors(

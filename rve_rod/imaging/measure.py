@@ -17,7 +17,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from rve_rod.errors import InputError, check_integer, check_positive, check_range
-from rve_rod.imaging.image_io import read_image, to_grayscale
+from rve_rod.imaging.image_io import block_mean, read_image, to_grayscale
 from rve_rod.imaging.lattice import (
     MIN_INDEXED,
     LatticeFit,
@@ -162,7 +162,7 @@ def measure_photo(
     factor = math.ceil(max(image.shape) / options.max_side)
     if factor > 1:
         logger.info("block-averaging the %s-pixel photo by %d", image.shape, factor)
-        image = _block_mean(image, factor)
+        image = block_mean(image, factor)
     scale = pixels_per_mm / factor
     contrast = flatten_illumination(image)
     try:
@@ -339,9 +339,3 @@ def _loops_across(shape: tuple[int, int], vector: np.ndarray) -> float:
     with np.errstate(divide="ignore"):
         extent = min(width / direction[0], height / direction[1])
     return float(extent / np.linalg.norm(vector))
-
-
-def _block_mean(image: np.ndarray, factor: int) -> np.ndarray:
-    height, width = (image.shape[0] // factor) * factor, (image.shape[1] // factor) * factor
-    blocks = image[:height, :width].reshape(height // factor, factor, width // factor, factor)
-    return blocks.mean(axis=(1, 3))

@@ -194,7 +194,7 @@ def refine_bin(power: np.ndarray, row: int, col: int) -> tuple[float, float]:
     tiny = np.finfo(float).tiny
     along_rows = np.log(np.maximum(power[[(row - 1) % height, row, (row + 1) % height], col], tiny))
     along_cols = np.log(np.maximum(power[row, [(col - 1) % width, col, (col + 1) % width]], tiny))
-    return row + _vertex(along_rows), col + _vertex(along_cols)
+    return row + parabola_vertex(along_rows), col + parabola_vertex(along_cols)
 
 
 def strongest_near(
@@ -221,8 +221,10 @@ def _quadratic_terms(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     return np.stack([np.ones_like(u), u, v, u * u, u * v, v * v], axis=-1)
 
 
-def _vertex(log_values: np.ndarray) -> float:
-    left, centre, right = log_values
+def parabola_vertex(values: np.ndarray) -> float:
+    """Offset in [-0.5, 0.5] of the vertex of the parabola through three equally spaced values
+    (at -1, 0, +1) from the middle one; 0 if it does not open downwards."""
+    left, centre, right = values
     curvature = left - 2.0 * centre + right
     if curvature >= 0.0:
         return 0.0

@@ -1,6 +1,7 @@
 """Lattice identification: reduction, fundamental lattice despite missing peaks, cells, periods."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -91,6 +92,29 @@ def test_square_lattice_keeps_the_cell_closer_to_the_axes():
     assert math.degrees(math.atan2(cell.wale_vector[1], cell.wale_vector[0])) == pytest.approx(12)
 
 
+@pytest.mark.parametrize(
+    ("aspect", "angle_deg"),
+    [(a, angle) for a in (0.55, 0.565, 0.595) for angle in (-15.0, -3.5, 0.0, 8.0, 15.0)]
+    + [(1 / math.sqrt(3), angle) for angle in (-14.0, -3.5, 0.0, 8.0, 14.0)],
+)
+def test_nearly_hexagonal_centred_lattice_gives_the_rectangular_cell(aspect, angle_deg):
+    # A centred lattice with c/w near 1/sqrt(3) has three shortest vectors of about equal
+    # length, c and (w/2, +-c/2): three rhombic pairs, of which only ((w/2, +-c/2)) has the
+    # fabric's cell (w, c) as its conventional cell (once measured as 0.58 w, 1.74 c); the
+    # others' cells are skewed (or, for an exact hexagon, 30 degrees further from the axes).
+    angle = math.radians(angle_deg)
+    rotation = np.array([[math.cos(angle), -math.sin(angle)], [math.sin(angle), math.cos(angle)]])
+    wale, course = 40.0, 40.0 * aspect
+    centred = rotation @ np.array([[wale / 2, 0.0], [course / 2, course]])
+    cell = fabric_cell(centred)
+    assert cell.centred
+    assert np.linalg.norm(cell.wale_vector) == pytest.approx(wale, rel=1e-9)
+    assert np.linalg.norm(cell.course_vector) == pytest.approx(course, rel=1e-9)
+    assert math.degrees(math.atan2(cell.wale_vector[1], cell.wale_vector[0])) == pytest.approx(
+        angle_deg, abs=1e-9
+    )
+
+
 def test_stripes_and_scattered_points_form_no_lattice():
     stripes = np.array([[0.05, 0.0], [0.1, 0.0], [0.15, 0.0]])
     with pytest.raises(InputError, match="do not form a lattice"):
@@ -161,3 +185,20 @@ def test_noise_does_not_repeat():
     noise = np.random.default_rng(0).normal(size=(130, 160))
     with pytest.raises(InputError, match="no periodic structure"):
         confirm_periods(noise, np.diag([30.0, 25.0]), min_correlation=0.2)
+
+
+def test_lattice_of_harmonics_only_is_refused():
+    # A photo of 2.3 courses showed only the peaks (2, 0), (4, 0) and (1, 5); the lattice
+    # they generate is finer by index 10, (-w/2, c/10) and (0, c/5), which no coarsening of
+    # index 2 or 4 undoes and whose vectors (and their doubles) are no periods. The photo's
+    # own best repeat, a true period, shows it.
+    contrast, real = face_photo()
+    harmonics = real @ np.array([[-0.5, 0.0], [0.1, 0.2]])
+    with pytest.raises(InputError, match="best repeat is a shift of") as refusal:
+        confirm_periods(contrast, harmonics, min_correlation=0.2)
+    # The repeat named is a vector of the true lattice, to the pixel.
+    numbers = re.search(r"shift of \((\S+), (\S+)\) px", str(refusal.value)).groups()
+    shift = np.array(numbers, dtype=float)
+    indices = np.rint(np.linalg.solve(real, shift))
+    assert np.any(indices != 0)
+    assert np.abs(real @ indices - shift).max() <= 0.5
