@@ -224,7 +224,7 @@ class LoopCell:
         if penetration <= self.settings.penetration_limit:
             return ""
         return (
-            f"contact penetration {penetration:.6g} r exceeds the limit of "
+            f"the largest contact penetration, {penetration:.6f} r, exceeds the limit of "
             f"{self.settings.penetration_limit:g} r (CellSettings.penetration_limit; beyond it "
             "the yarns can pass through each other)"
         )
