@@ -10,9 +10,12 @@ that make the convergence norms dimensionless. A step from t_n to t_n+1 is accep
 A step whose Newton iteration fails (non-finite values, residual growth beyond
 `divergence_factor`, or `max_iterations` reached) is retried with half the increment, down to
 `min_increment` and at most `max_cutbacks` times in a row; easy steps let the increment grow
-again. After every converged step the problem's `commit` hook runs (history variables such as
-friction slip). If the path cannot be continued, `ConvergenceError` carries the last converged
-step and every step before it. Linear systems are solved by SuperLU (scipy.sparse.linalg.splu).
+again. A converged state the problem's `admissible` hook refuses (a state the model does not
+describe, e.g. yarns squeezed through each other) counts as a failed attempt, so the increment
+is cut back towards the last admissible state. After every accepted step the problem's
+`commit` hook runs (history variables such as friction slip). If the path cannot be continued,
+`ConvergenceError` carries the last accepted step and every step before it. Linear systems
+are solved by SuperLU (scipy.sparse.linalg.splu).
 """
 
 import logging
@@ -39,13 +42,17 @@ class NonlinearProblem:
         evaluate: (state, load_factor) -> (residual, sparse Jacobian).
         residual_scale: typical magnitude of each residual entry, scalar or (n,).
         state_scale: typical magnitude of each unknown, scalar or (n,).
-        commit: called as commit(state, load_factor) after every converged step, or None.
+        commit: called as commit(state, load_factor) after every accepted step, or None.
+        admissible: called as admissible(state, load_factor) on every converged state before
+            it is accepted; returns "" to accept it, else why it is refused (the path then
+            cuts back as after a failed solve). None accepts every converged state.
     """
 
     evaluate: Evaluate
     residual_scale: float | np.ndarray = 1.0
     state_scale: float | np.ndarray = 1.0
     commit: Callable[[np.ndarray, float], None] | None = None
+    admissible: Callable[[np.ndarray, float], str] | None = None
 
 
 _ORDERINGS = ("COLAMD", "NATURAL", "MMD_ATA", "MMD_AT_PLUS_A")
@@ -288,12 +295,13 @@ def solve_path(
 
     `initial_state` must be an equilibrium at t = `start` (e.g. the unloaded reference state);
     it is recorded as the first step. Between requested load factors the increment adapts
-    (cutback on failure, growth after easy steps).
+    (cutback on failure or on a converged state `problem.admissible` refuses, growth after
+    easy steps).
 
     Raises:
         ConvergenceError: when the increment would fall below `min_increment` or more than
-            `max_cutbacks` consecutive halvings fail; `last_converged` is the last converged
-            StepRecord (possibly a substep) and `history` the PathResult up to there.
+            `max_cutbacks` consecutive halvings fail (or are refused); `last_converged` is the
+            last accepted StepRecord (possibly a substep) and `history` the PathResult up to there.
     """
     targets = np.asarray(load_factors, dtype=float)
     if targets.ndim != 1 or targets.size == 0 or np.any(np.diff(np.r_[start, targets]) <= 0):
@@ -317,7 +325,10 @@ def solve_path(
                 guess = state + (trial - t) / (t - previous[0]) * (state - previous[1])
             attempt = newton_solve(problem, guess, trial, newton)
             result.newton_iterations += attempt.iterations
-            if attempt.converged:
+            reason = attempt.reason
+            if attempt.converged and problem.admissible is not None:
+                reason = problem.admissible(attempt.state, trial) or reason
+            if reason == "converged":
                 previous = (t, state)
                 t, state = trial, attempt.state
                 if problem.commit is not None:
@@ -335,7 +346,7 @@ def solve_path(
                 "t=%.6g not reached from t=%.6g (%s after %d iterations); increment cut to %.3g",
                 trial,
                 t,
-                attempt.reason,
+                reason,
                 attempt.iterations,
                 increment,
             )
@@ -349,8 +360,8 @@ def solve_path(
                     cutbacks,
                 )
                 raise ConvergenceError(
-                    f"no convergence beyond load factor t={t:.6g} on the way to {target:.6g}: "
-                    f"{attempt.reason} (increment {increment:.3g}, {consecutive} cutbacks)",
+                    f"no accepted state beyond load factor t={t:.6g} on the way to {target:.6g}: "
+                    f"{reason} (increment {increment:.3g}, {consecutive} cutbacks)",
                     last_converged=last_record,
                     history=result,
                 )

@@ -50,6 +50,13 @@ def register(subparsers) -> None:
         help="control points per quarter loop (default 68)",
     )
     parser.add_argument(
+        "--penetration-limit",
+        type=float,
+        default=CellSettings().penetration_limit,
+        help="largest contact penetration 2r - d accepted, in yarn radii (default 1); the "
+        "run stops where the yarns would be squeezed further",
+    )
+    parser.add_argument(
         "--second-moment",
         choices=("solid", "paper"),
         default="solid",
@@ -67,7 +74,9 @@ def run_simulate(args: argparse.Namespace) -> int:
     strain = args.max_strain
     case = load_case(args.case, strain, args.steps, args.angle)
     settings = RveSettings(
-        cell=CellSettings(control_points=args.control_points),
+        cell=CellSettings(
+            control_points=args.control_points, penetration_limit=args.penetration_limit
+        ),
         yarn=YarnSettings(second_moment=args.second_moment, friction=not args.frictionless),
     )
     try:

@@ -18,9 +18,16 @@ Conditions of the rod model:
   zero up to discretization error and the two-pass contact imbalance; it is reported);
 * `MacroBalance`: zero macro stress conjugate to each free component of F.
 
+A converged state whose largest contact penetration g = 2r - d exceeds the penetration limit
+(default r: the centrelines closer than one radius, each yarn squeezed to less than half its
+thickness) is refused, and the load path cuts back towards the limit: beyond it the penalty
+law describes no yarn, and a loop under large wale-wise strain can slip its head through the
+legs it holds, a state Newton converges to as readily as any other (docs/validation.md).
+
 Extra unknowns: the free components of F (as F - I), then the 4 support multipliers.
 """
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
@@ -56,18 +63,23 @@ class CellSettings:
             [0, 4) (default 1.0: the leg point at the loop's mid-height, outside the band
             where courses overlap, so the loop touches nothing there; docs/rve.md).
         lateral_stiffness: kappa of `MacroBalance` relative to EA / c (default 1e-6).
+        penetration_limit: largest admissible contact penetration g = 2r - d, in yarn radii
+            r, in (0, 2) (default 1: centrelines at least r apart); states beyond it are
+            refused (module docstring).
         contact: contact search settings.
     """
 
     control_points: int = 68
     cut: float = 1.0
     lateral_stiffness: float = 1e-6
+    penetration_limit: float = 1.0
     contact: ContactOptions = field(default_factory=ContactOptions)
 
     def __post_init__(self):
         check_integer("control_points", self.control_points, 5, 100_000)
         check_range("cut", self.cut, 0.0, QUARTERS - 1e-9)
         check_range("lateral_stiffness", self.lateral_stiffness, 0.0, 1.0)
+        check_range("penetration_limit", self.penetration_limit, 0.0, 2.0, closed=False)
 
 
 def periodic_patch(
@@ -197,8 +209,25 @@ class LoopCell:
         return Offset(-F @ self._period, self.macro.columns, derivative)
 
     def problem(self) -> NonlinearProblem:
-        """The cell as a NonlinearProblem; its commit adopts the friction anchors."""
-        return self.model.problem(commit=self.coupling.commit)
+        """The cell as a NonlinearProblem; its commit adopts the friction anchors, and it
+        refuses states beyond the penetration limit (`admissible`)."""
+        return dataclasses.replace(
+            self.model.problem(commit=self.coupling.commit), admissible=self.admissible
+        )
+
+    def admissible(self, state: np.ndarray, load_factor: float) -> str:
+        """The empty string if the state's largest penetration is within the limit, else why
+        the state is refused."""
+        radius = self.yarn.radius
+        statistics = self.coupling.result(state, load_factor, tangent=False).statistics
+        penetration = statistics.max_penetration / radius
+        if penetration <= self.settings.penetration_limit:
+            return ""
+        return (
+            f"the largest contact penetration, {penetration:.6f} r, exceeds the limit of "
+            f"{self.settings.penetration_limit:g} r (CellSettings.penetration_limit; beyond it "
+            "the yarns can pass through each other)"
+        )
 
     def reference_state(self) -> np.ndarray:
         return self.model.reference_state()

@@ -269,6 +269,7 @@ class _Recorder:
             residual_scale=self.problem.residual_scale,
             state_scale=self.problem.state_scale,
             commit=self.commit,
+            admissible=self.problem.admissible,
         )
 
 

@@ -69,12 +69,26 @@ def test_a_run_that_stops_writes_what_converged_and_exits_3(tmp_path, monkeypatc
     assert plot.exists()
 
 
+def test_a_run_beyond_the_penetration_limit_stops_at_it(capsys):
+    limit = 0.1
+    extra = ["--case", "uniaxial-wale", "--steps", "11", "--penetration-limit", str(limit)]
+    code = main([*ARGS, *extra, "--json"])
+    assert code == 3
+    captured = capsys.readouterr()
+    data = json.loads(captured.out)
+    assert data["complete"] is False and len(data["strain"]) >= 2
+    penetration = np.array(data["max_penetration"]) / data["adjusted_radius"]
+    assert 0.0 < penetration.max() <= limit
+    assert "exceeds the limit of 0.1 r" in captured.err
+
+
 @pytest.mark.parametrize(
     ("extra", "message"),
     [
         (["--max-strain", "1.5"], "max_strain=1.5 is outside the valid range"),
         (["--steps", "1"], "steps=1 is outside the valid range"),
         (["--control-points", "8"], "control_points=8 is below the geometry's own 12"),
+        (["--penetration-limit", "2"], "penetration_limit=2 is outside the valid range (0, 2)"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(extra, message, capsys):

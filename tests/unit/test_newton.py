@@ -101,6 +101,30 @@ def test_path_beyond_a_limit_point_raises_with_the_converged_history():
     assert "t=0.49" in str(error)
 
 
+def test_refused_states_cut_back_to_the_admissible_limit_and_are_never_committed():
+    # The cubic problem's root u0 rises from 0 (t = 0) to 1 (t = 1); states beyond u0 = 0.6
+    # are refused, so the accepted (committed) ones approach 0.6 from below to within the
+    # increment resolution, and the error names the refusal.
+    def admissible(state, t):
+        return "" if state[0] <= 0.6 else f"u0 = {state[0]:.3f} beyond 0.6"
+
+    commits = []
+    problem = NonlinearProblem(
+        cubic_problem().evaluate,
+        commit=lambda state, t: commits.append(state[0]),
+        admissible=admissible,
+    )
+    with pytest.raises(ConvergenceError, match=r"no accepted state .*: u0 = 0\.6\d+ beyond 0\.6"):
+        solve_path(
+            problem,
+            np.zeros(2),
+            np.linspace(0.1, 1.0, 10),
+            stepping=SteppingOptions(min_increment=1e-5, max_cutbacks=30),
+        )
+    assert max(commits) <= 0.6
+    assert max(commits) == pytest.approx(0.6, abs=1e-4)
+
+
 @pytest.mark.parametrize(
     ("options", "message"),
     [

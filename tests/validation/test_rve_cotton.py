@@ -10,6 +10,7 @@ points per quarter and 1 % steps; docs/validation.md has the tables.
 import numpy as np
 import pytest
 
+from rve_rod.errors import ConvergenceError
 from rve_rod.presets import load_preset, stitch_values
 from rve_rod.rve.load_cases import load_case
 from rve_rod.rve.simulation import RveSettings, simulate
@@ -65,3 +66,18 @@ def test_vassiliadis_sample_2_in_strip_biaxial_tension():
         force = result.series("force_gf_per_cm")
         assert result.complete and result.series("contacts_at_cut").max() == 0
         assert np.all(np.diff(force[1:]) > 0)  # tension grows with strain
+
+
+def test_wale_wise_stretch_stops_at_the_penetration_limit_instead_of_passing_through():
+    # Without the limit the head slips through the legs it holds between 38 and 39 %
+    # (penetration 1.53 r at 38 %, then the force turns to -46 gf/cm) and the run "converges"
+    # (docs/validation.md); with it the path stops where the penetration reaches r.
+    fabric = load_preset("cotton-20s2", 5.5)
+    with pytest.raises(ConvergenceError, match="penetration_limit") as caught:
+        simulate(fabric, load_case("uniaxial-wale", 0.4), SETTINGS)
+    history = caught.value.history
+    penetration = history.series("max_penetration") / history.yarn.radius
+    assert penetration.max() <= SETTINGS.cell.penetration_limit
+    assert penetration[-1] > 0.9 * SETTINGS.cell.penetration_limit  # stopped at the limit
+    assert np.all(np.diff(history.series("force_gf_per_cm")) > 0)  # no slip-through
+    assert 0.2 < history.steps[-1].strain < 0.38
