@@ -251,11 +251,17 @@ def given_surface(path: Path, folder: Path) -> dict:
     return {**surface_summary(surface), "source": str(path)}
 
 
+SOFTENING_TOLERANCE = 1e-9
+"""A normal stiffness below -SOFTENING_TOLERANCE times its largest value on the domain is
+warned of; above, it is round-off of a fit held at zero slope (the monotone stress fit)."""
+
+
 def surface_summary(surface) -> dict:
-    """Kind, domain, residuals and softest normal stiffness of a surface (warned if < 0)."""
+    """Kind, domain, residuals and softest normal stiffness of a surface (warned if < 0
+    beyond round-off)."""
     softest = softest_normal_tangents(surface)
     for name, entry in softest.items():
-        if entry["value"] < 0.0:
+        if entry["value"] < -SOFTENING_TOLERANCE * entry["largest"]:
             logger.warning(
                 "the surface loses stiffness: %s = %.3g N/mm at E = (%.3g, %.3g); a patch "
                 "that reaches such strains may find a spurious equilibrium",
@@ -272,9 +278,10 @@ def surface_summary(surface) -> dict:
 
 
 def softest_normal_tangents(surface, points_per_axis: int = 41) -> dict:
-    """The smallest dS11/dE11 and dS22/dE22 (N/mm) on a grid over the (E11, E22) domain and
-    the strain (E11, E22) where each occurs: a negative value means the fitted material
-    softens there, where a membrane has no unique equilibrium."""
+    """The smallest dS11/dE11 and dS22/dE22 (N/mm) on a grid over the (E11, E22) domain,
+    the strain (E11, E22) where each occurs and the largest of each (`largest`): a negative
+    value means the fitted material softens there, where a membrane has no unique
+    equilibrium."""
     (x_low, x_high), (y_low, y_high) = surface.domain[:2]
     x, y = np.meshgrid(
         np.linspace(x_low, x_high, points_per_axis), np.linspace(y_low, y_high, points_per_axis)
@@ -283,8 +290,13 @@ def softest_normal_tangents(surface, points_per_axis: int = 41) -> dict:
     tangent = surface.stress(strain).tangent
     softest = {}
     for index, name in enumerate(("dS11/dE11", "dS22/dE22")):
-        at = int(np.argmin(tangent[:, index, index]))
-        softest[name] = {"value": tangent[at, index, index], "strain": strain[at, :2]}
+        values = tangent[:, index, index]
+        at = int(np.argmin(values))
+        softest[name] = {
+            "value": values[at],
+            "strain": strain[at, :2],
+            "largest": float(values.max()),
+        }
     return softest
 
 

@@ -3,7 +3,7 @@
 Stress fit (the paper's, kind "stress"): tensor-product splines S11(E11, E22), S22(E11, E22) of
 degree p >= 2 (C1 with simple knots) and an odd curve S12(E12), each by
 
-    min_c |A c - s|^2 + lambda |J c|^2   subject to   S(0) = 0,
+    min_c |A c - s|^2 + lambda |J c|^2   subject to   S(0) = 0   (and D c >= 0),
 
 where A evaluates the spline at the sample strains, s holds the sampled stresses and J the jumps
 of the p-th derivative across every interior knot (in each direction of the tensor product).
@@ -11,6 +11,13 @@ That penalty vanishes exactly on the polynomials of degree p in each input, so a
 space is reproduced exactly whatever lambda is, while regions without samples (between the
 rays of star-shaped data, box corners) are filled by the smoothest continuation. lambda is
 `regularization` times |A|_F^2 / |J|_F^2, i.e. relative and independent of units and sizes.
+With `monotone` (default), S11 is made nondecreasing in E11 and S22 in E22 everywhere: the
+differences of consecutive coefficients along that input, D c, are held >= 0 (a sufficient
+condition: the derivative spline's coefficients are those differences times positive
+factors), solved as a bounded least-squares problem in the coefficients' partial sums. A
+negative dS11/dE11 or dS22/dE22 is a material that softens, where the membrane has no unique
+equilibrium; the knit's data near E = 0 have a kink (almost no lateral stress in
+compression, stiffening in tension) across which the unconstrained fit undershoots.
 The knots are uniform on each side of E = 0 over the range of the data (a knot at 0 lets the
 compression and tension branches differ); S12 uses knots symmetric about 0 and an odd
 coefficient pattern (c_{n-1-i} = -c_i), so it is odd by construction.
@@ -27,6 +34,7 @@ from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg
+import scipy.optimize
 
 from rve_rod.errors import InputError, check_integer, check_range
 from rve_rod.geometry.bspline import basis_matrix
@@ -57,6 +65,12 @@ class FitOptions:
         regularization: relative weight of the smoothness penalty (>= 0; default 1e-3, see
             benchmarks/bench_surface_fit.py: it barely changes the residuals at the samples
             but keeps the surface sane between the rays).
+        monotone: stress fit with S11 nondecreasing in E11 and S22 in E22 (default True;
+            module docstring); the energy fit ignores it.
+        stiffness_floor: with `monotone`, the smallest dS11/dE11 (dS22/dE22) as a fraction
+            of the data's mean slope (S range over E range of that component; default 0.01,
+            0 for a plain monotone fit): a membrane made of a material with zero stiffness
+            has no unique equilibrium.
     """
 
     degree: int = 2
@@ -64,6 +78,8 @@ class FitOptions:
     spans: int | None = None
     shear_spans: int | None = None
     regularization: float = 1e-3
+    monotone: bool = True
+    stiffness_floor: float = 0.01
 
     def __post_init__(self):
         check_integer("degree", self.degree, 2, 5)
@@ -75,6 +91,7 @@ class FitOptions:
             if self.shear_spans % 2:
                 raise InputError(f"shear_spans={self.shear_spans} must be even (0 is a knot)")
         check_range("regularization", self.regularization, 0.0, 1.0)
+        check_range("stiffness_floor", self.stiffness_floor, 0.0, 1.0)
 
 
 class FitReport(NamedTuple):
@@ -181,12 +198,71 @@ def constrained_least_squares(
     basis = (
         scipy.linalg.null_space(constraints) if constraints is not None else np.eye(matrix.shape[1])
     )
+    system, right = _regularized_system(matrix, rhs, penalty, regularization)
+    reduced = np.linalg.lstsq(system @ basis, right, rcond=None)[0]
+    return basis @ reduced
+
+
+def _regularized_system(
+    matrix: np.ndarray, rhs: np.ndarray, penalty: np.ndarray, regularization: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The stacked least-squares system [M; sqrt(lambda) P], [b; 0], lambda relative."""
     penalty_norm = np.linalg.norm(penalty)
     weight = regularization * np.linalg.norm(matrix) ** 2 / penalty_norm**2 if penalty_norm else 0
-    system = np.vstack([matrix @ basis, math.sqrt(weight) * (penalty @ basis)])
-    right = np.concatenate([rhs, np.zeros(penalty.shape[0])])
-    reduced = np.linalg.lstsq(system, right, rcond=None)[0]
-    return basis @ reduced
+    system = np.vstack([matrix, math.sqrt(weight) * penalty])
+    return system, np.concatenate([rhs, np.zeros(penalty.shape[0])])
+
+
+def monotone_least_squares(
+    matrix: np.ndarray,
+    rhs: np.ndarray,
+    penalty: np.ndarray,
+    regularization: float,
+    constraint: np.ndarray,
+    *,
+    shape: tuple[int, int],
+    axis: int,
+    min_increments: np.ndarray,
+) -> np.ndarray:
+    """`constrained_least_squares` with one equality row `constraint` (1, n) and the tensor
+    coefficients (shape, raveled C-order) increasing along `axis` by at least
+    `min_increments` (shape[axis] - 1,) from one to the next.
+
+    The unknowns become the partial sums' terms d along `axis` (c = T d, T the cumulative
+    sum): the first of each line is free, the others (the differences) are bounded below. The
+    equality is solved for the free unknown with the largest coefficient in it, and the
+    remaining bounded least-squares problem goes to scipy.optimize.lsq_linear (BVLS). With
+    no bound active the result is that of `constrained_least_squares`.
+    """
+    cumulative = np.tril(np.ones((shape[axis], shape[axis])))
+    eye = np.eye(shape[1 - axis])
+    transform = np.kron(cumulative, eye) if axis == 0 else np.kron(eye, cumulative)
+    free = (np.indices(shape)[axis] == 0).ravel()
+    system, right = _regularized_system(matrix, rhs, penalty, regularization)
+    system = system @ transform
+    equality = (constraint @ transform).ravel()
+    pivot = int(np.flatnonzero(free)[np.argmax(np.abs(equality[free]))])
+    rest = np.arange(equality.size) != pivot
+    # d[pivot] = -equality[rest] . d[rest] / equality[pivot]
+    eliminated = system[:, rest] - np.outer(system[:, pivot], equality[rest] / equality[pivot])
+    increments = np.concatenate([[-np.inf], min_increments])
+    lower = np.broadcast_to(np.expand_dims(increments, 1 - axis), shape).ravel()[rest]
+    solution = scipy.optimize.lsq_linear(
+        eliminated, right, bounds=(lower, np.inf), method="bvls", tol=1e-14
+    )
+    terms = np.empty(equality.size)
+    terms[rest] = solution.x
+    terms[pivot] = -equality[rest] @ solution.x / equality[pivot]
+    return transform @ terms
+
+
+def _slope_increments(knots: np.ndarray, degree: int, slope: float) -> np.ndarray:
+    """Smallest increments c_k - c_(k-1) (k = 1..n-1) of a spline's coefficients for which
+    its derivative is >= slope: that derivative's coefficients are
+    degree (c_k - c_(k-1)) / (t_(k+degree) - t_k)."""
+    n = knots.size - degree - 1
+    k = np.arange(1, n)
+    return slope * (knots[k + degree] - knots[k]) / degree
 
 
 def _check_samples(samples: SurfaceSamples) -> None:
@@ -242,9 +318,22 @@ def fit_stress_surface(
     shape = tuple(t.size - p - 1 for t in knots)
     splines = {}
     for column, name in enumerate(("S11", "S22")):
-        coefficients = constrained_least_squares(
-            rows, S[:, column], penalty, options.regularization, origin
-        )
+        if options.monotone:
+            slope = np.ptp(S[:, column]) / np.ptp(E[:, column])
+            coefficients = monotone_least_squares(
+                rows,
+                S[:, column],
+                penalty,
+                options.regularization,
+                origin,
+                shape=shape,
+                axis=column,
+                min_increments=_slope_increments(knots[column], p, options.stiffness_floor * slope),
+            )
+        else:
+            coefficients = constrained_least_squares(
+                rows, S[:, column], penalty, options.regularization, origin
+            )
         splines[name] = Spline2D((p, p), knots, coefficients.reshape(shape))
 
     shear_knots = _shear_knots(samples, p, options)

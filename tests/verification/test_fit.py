@@ -60,12 +60,65 @@ def inside_points(surface, m=2000):
 def test_polynomial_law_in_the_spline_space_is_reproduced(regularization, spans):
     # the jump penalty vanishes on polynomials of degree 2 per input: any weight keeps them
     # (a weight is needed: 6 spans leave cells between the rays without samples)
+    # (the law softens in parts of the box: the fit without the monotone condition)
     samples = law_samples(polynomial_stress)
-    surface = fit_stress_surface(samples, FitOptions(spans=spans, regularization=regularization))
+    options = FitOptions(spans=spans, regularization=regularization, monotone=False)
+    surface = fit_stress_surface(samples, options)
     E = inside_points(surface)
     np.testing.assert_allclose(surface.stress(E).S, polynomial_stress(E), rtol=0, atol=1e-10)
     for stats in fit_report(surface).residuals.values():
         assert stats.max_abs < 1e-10
+
+
+def monotone_polynomial_stress(E):
+    """Degree <= 2 per input, dS11/dE11 >= 0.08 and dS22/dE22 >= 0.03 over the sampled box."""
+    E11, E22, E12 = E.T
+    S11 = 0.3 * E11 + 0.1 * E22 + 1.0 * E11**2 - 0.2 * E11 * E22
+    S22 = 0.2 * E22 + 0.05 * E11 + 0.8 * E22**2 + 0.3 * E11 * E22 - E11**2
+    return np.stack([S11, S22, 0.07 * E12], axis=1)
+
+
+@pytest.mark.parametrize("spans", [3, 6])
+def test_monotone_law_in_the_spline_space_is_reproduced_by_the_monotone_fit(spans):
+    # No bound is active: the monotone fit is the plain one, and reproduces the law.
+    samples = law_samples(monotone_polynomial_stress)
+    surface = fit_stress_surface(samples, FitOptions(spans=spans, monotone=True))
+    E = inside_points(surface)
+    np.testing.assert_allclose(surface.stress(E).S, monotone_polynomial_stress(E), atol=1e-10)
+
+
+def kinked_stress(E):
+    """A knit-like law: the lateral stress almost vanishes in compression (slope 1/100 of
+    tension's) and stiffens in tension, with a kink at E = 0 in each input."""
+    E11, E22, E12 = E.T
+    soft = np.where(E11 < 0, 0.01, 1.0) * E11, np.where(E22 < 0, 0.01, 1.0) * E22
+    S11 = 0.3 * soft[0] + 2.0 * np.maximum(E11, 0) ** 2 + 0.02 * soft[1]
+    S22 = 0.6 * soft[1] + 4.0 * np.maximum(E22, 0) ** 2 + 0.05 * soft[0]
+    return np.stack([S11, S22, 0.07 * E12], axis=1)
+
+
+def test_monotone_fit_of_a_kinked_law_keeps_the_stiffness_floor():
+    samples = law_samples(kinked_stress)
+    fits = {
+        monotone: fit_stress_surface(samples, FitOptions(monotone=monotone))
+        for monotone in (False, True)
+    }
+    (x0, x1), (y0, y1) = fits[True].domain[:2]  # (outside, the C1 extension decides)
+    x, y = np.meshgrid(np.linspace(x0, x1, 75), np.linspace(y0, y1, 75))
+    grid = np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
+    slopes = {
+        monotone: np.diagonal(surface.stress(grid).tangent, axis1=1, axis2=2)[:, :2]
+        for monotone, surface in fits.items()
+    }
+    scale = 0.6  # the law's smallest tension slope, N/mm
+    assert slopes[False].min() < -0.01 * scale  # the plain fit undershoots at the kink
+    # the stiffness floor: 1 % of each component's mean slope over the data
+    S, E = samples.biaxial_stress[:, :2], samples.biaxial_strain[:, :2]
+    floor = FitOptions().stiffness_floor * np.ptp(S, axis=0) / np.ptp(E, axis=0)
+    assert np.all(slopes[True].min(axis=0) >= floor * (1 - 1e-9))
+    plain, monotone = (fit_report(fits[m]).residuals for m in (False, True))
+    for group in ("S11", "S22"):
+        assert monotone[group].max_abs < 2.0 * plain[group].max_abs + 1e-4
 
 
 def test_cubic_shear_reproduced_with_degree_three():
@@ -211,3 +264,7 @@ def test_fit_input_errors():
         FitOptions(degree=1)
     with pytest.raises(InputError, match="even"):
         FitOptions(shear_spans=5)
+    with pytest.raises(
+        InputError, match=r"stiffness_floor=1.5 is outside the valid range \[0, 1\]"
+    ):
+        FitOptions(stiffness_floor=1.5)
