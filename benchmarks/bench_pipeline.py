@@ -65,8 +65,9 @@ def numbers(summary: dict) -> dict[str, float]:
             values[f"meso {label}"] = _at(summary["meso"][case], "force_gf_per_cm", strain)
     for name in ("nu12", "nu21"):
         entry = summary["poisson_ratios"][name]
-        values[f"meso {name}"] = entry["meso"][-1]
-        values[f"macro {name}"] = entry["macro"][-1]
+        for scale in ("meso", "macro"):
+            value = entry[scale][-1]  # None: a run that stopped before 20 %
+            values[f"{scale} {name}"] = float("nan") if value is None else value
     return values
 
 
