@@ -40,7 +40,8 @@ from fabric_dolfinx.membrane import membrane_forms
 from fabric_dolfinx.mesh import plate_with_hole
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
 from fabric_dolfinx.synthetic import synthetic_surface
-from fabric_dolfinx.tension import TensionSetup, TensionTest
+from fabric_dolfinx.tension import TensionSetup
+from fabric_dolfinx.tension_spec import TensionTest
 
 MPI_ENV = {
     **os.environ,

@@ -22,7 +22,8 @@ from fabric_dolfinx.io import read_rve_curve
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
 from fabric_dolfinx.plot import plot_force_strain
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import TensionSetup, TensionTest
+from fabric_dolfinx.tension import TensionSetup
+from fabric_dolfinx.tension_spec import TensionTest
 from rve_rod.errors import ConvergenceError, InputError
 from rve_rod.surface import read_surface
 

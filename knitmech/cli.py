@@ -17,10 +17,11 @@ import os
 import sys
 
 from knitmech.fidelity import LEVELS
-from knitmech.pipeline import default_cache_dir, run_scene
+from knitmech.pipeline import run_scene
 from knitmech.scene import load_scene
 from knitmech.stages import StageError
 from rve_rod import __version__
+from rve_rod.cache import default_cache_root
 from rve_rod.errors import ConvergenceError, InputError
 from rve_rod.homogenize.generate import GenerationError
 
@@ -59,7 +60,9 @@ def build_parser() -> argparse.ArgumentParser:
         default=available_cores(),
         help=f"worker processes for the RVE runs (default: all cores, {available_cores()})",
     )
-    run.add_argument("--cache-dir", help=f"stage and RVE-run cache (default {default_cache_dir()})")
+    run.add_argument(
+        "--cache-dir", help=f"stage and RVE-run cache (default {default_cache_root()})"
+    )
     run.add_argument("--json", action="store_true", help="print summary.json instead of a table")
     verbosity = run.add_mutually_exclusive_group()
     verbosity.add_argument("-q", "--quiet", action="store_true", help="warnings only")

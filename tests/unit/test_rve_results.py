@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 from rve_cases import CURVES, FABRIC
 
-from rve_rod.cli.common import to_jsonable
 from rve_rod.errors import ConvergenceError
 from rve_rod.homogenize.generate import execute
 from rve_rod.homogenize.samples import RveCase
 from rve_rod.homogenize.sampling import LoadPath, SamplingPlan
+from rve_rod.jsonable import to_jsonable
 from rve_rod.newton import NewtonOptions, SteppingOptions
 from rve_rod.rve import engine
 from rve_rod.rve.cell import CellSettings

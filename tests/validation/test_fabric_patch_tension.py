@@ -12,7 +12,8 @@ import scipy.optimize
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.solve import SolverOptions
 from fabric_dolfinx.synthetic import synthetic_surface
-from fabric_dolfinx.tension import TensionSetup, TensionTest
+from fabric_dolfinx.tension import TensionSetup
+from fabric_dolfinx.tension_spec import TensionTest
 
 SURFACE = synthetic_surface()
 MATERIAL = surface_material(SURFACE)
