@@ -8,11 +8,11 @@ import dolfinx.fem.petsc
 import numpy as np
 import pytest
 from dolfinx import fem
+from surface_cases import COTTON_LIKE_LAW, synthetic_surface
 
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.membrane import membrane_forms
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.synthetic import COTTON_LIKE_LAW, synthetic_surface
 from fabric_dolfinx.tension import TensionSetup
 from fabric_dolfinx.tension_spec import TensionTest
 from rve_rod.errors import ConvergenceError
