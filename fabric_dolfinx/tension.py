@@ -25,10 +25,10 @@ from fabric_dolfinx.material import Material
 from fabric_dolfinx.membrane import membrane_forms, membrane_stress
 from fabric_dolfinx.mesh import rectangle_patch
 from fabric_dolfinx.solve import (
-    LoadPathResult,
     LoadStepper,
+    PathResult,
     SolverOptions,
-    StepResult,
+    StepRecord,
     boundary_indicator,
 )
 from fabric_dolfinx.tension_spec import DIRECTIONS, TensionTest
@@ -44,7 +44,7 @@ class TensionResult(NamedTuple):
         strain: (k+1,) nominal strain.
         force_n_per_mm: (k+1,) clamp reaction along the load per undeformed width (N/mm).
         force_gf_per_cm: the same in gf/cm.
-        newton_iterations: (k,) iterations per converged step.
+        newton_iterations: (k,) Newton iterations of each converged step.
         dofs: global number of degrees of freedom.
         ranks: MPI ranks.
         wall_time_s: time of the load path (s), without mesh generation and compilation.
@@ -62,7 +62,7 @@ class TensionResult(NamedTuple):
     wall_time_s: float
     cutbacks: int
     outside_domain: bool
-    path: LoadPathResult
+    path: PathResult
 
 
 class TensionSetup:
@@ -158,7 +158,7 @@ class TensionSetup:
         outside = False
         start = time.perf_counter()
 
-        def after_step(step: StepResult, output: XDMFOutput | None) -> None:
+        def after_step(step: StepRecord, output: XDMFOutput | None) -> None:
             nonlocal outside
             strain = round(step.load_factor * self.test.max_strain, 12)
             if check is not None:
@@ -184,7 +184,7 @@ class TensionSetup:
             ) from None
         return self._result(path, outside, time.perf_counter() - start)
 
-    def _result(self, path: LoadPathResult, outside: bool, wall_time: float) -> TensionResult:
+    def _result(self, path: PathResult, outside: bool, wall_time: float) -> TensionResult:
         strain = np.array([0.0] + [s.load_factor * self.test.max_strain for s in path.steps])
         force = (
             np.array([0.0] + [s.reactions["moving"][self._component] for s in path.steps])
@@ -194,7 +194,7 @@ class TensionSetup:
             strain=strain,
             force_n_per_mm=force,
             force_gf_per_cm=n_per_mm_to_gf_per_cm(force),
-            newton_iterations=np.array([s.newton_iterations for s in path.steps], dtype=int),
+            newton_iterations=np.array([s.iterations for s in path.steps], dtype=int),
             dofs=self.dofs,
             ranks=self.u.function_space.mesh.comm.size,
             wall_time_s=wall_time,
