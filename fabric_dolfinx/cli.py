@@ -27,6 +27,13 @@ from fabric_dolfinx.tension_spec import TensionTest
 from rve_rod.errors import ConvergenceError, InputError, cli_exit_status
 from rve_rod.surface import read_surface
 
+__all__ = [
+    "PROGRAM",
+    "build_parser",
+    "main",
+    "run_tension_command",
+]
+
 PROGRAM = "fabric-dolfinx"
 
 

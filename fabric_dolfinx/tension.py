@@ -36,6 +36,12 @@ from rve_rod.errors import ConvergenceError, InputError
 from rve_rod.surface import ResponseSurface
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
+__all__ = [
+    "TensionResult",
+    "TensionSetup",
+    "homogeneous_response",
+]
+
 
 class TensionResult(NamedTuple):
     """Force-strain curve of a tension test (index 0 is the unloaded state).

@@ -25,6 +25,14 @@ from rve_rod.cache import default_cache_root
 from rve_rod.errors import InputError, cli_exit_status
 from rve_rod.homogenize.generate import GenerationError
 
+__all__ = [
+    "PROGRAM",
+    "available_cores",
+    "build_parser",
+    "main",
+    "run_command",
+]
+
 PROGRAM = "knitmech"
 
 

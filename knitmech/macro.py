@@ -32,6 +32,13 @@ from rve_rod.errors import ConvergenceError, InputError
 from rve_rod.surface import read_surface
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
+__all__ = [
+    "STRESS_COMPONENT",
+    "MidlineProbe",
+    "main",
+    "run_patch",
+]
+
 logger = logging.getLogger(__name__)
 
 STRESS_COMPONENT = {"course": (0, 0), "wale": (1, 1)}

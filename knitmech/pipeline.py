@@ -52,6 +52,13 @@ from rve_rod.errors import InputError, check_integer
 from rve_rod.jsonable import to_jsonable
 from rve_rod.surface import read_surface
 
+__all__ = [
+    "SUMMARY_FILE",
+    "PipelineResult",
+    "check_plan",
+    "run_scene",
+]
+
 logger = logging.getLogger(__name__)
 
 SUMMARY_FILE = "summary.json"

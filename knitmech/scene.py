@@ -19,6 +19,24 @@ from knitmech.fidelity import DEFAULT, LEVELS, Fidelity
 from rve_rod.errors import InputError
 from rve_rod.presets import Fabric, load_preset, make_fabric
 
+__all__ = [
+    "DEFAULT_SURFACE",
+    "DIRECTIONS",
+    "FIDELITY_NAMES",
+    "MESO_CASES",
+    "SURFACE_KINDS",
+    "FabricSpec",
+    "MacroSpec",
+    "MesoSpec",
+    "Scene",
+    "SceneError",
+    "SurfaceSpec",
+    "default_scene_path",
+    "default_surface_path",
+    "load_scene",
+    "scene_from_dict",
+]
+
 MESO_CASES = (
     "uniaxial-course",
     "uniaxial-wale",

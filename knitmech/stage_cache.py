@@ -25,6 +25,16 @@ import numpy as np
 from rve_rod.cache import ResultCache, cache_key
 from rve_rod.jsonable import to_jsonable
 
+__all__ = [
+    "CACHED",
+    "COMPUTED",
+    "GIVEN",
+    "Stage",
+    "StageCache",
+    "StageRecord",
+    "StageResult",
+]
+
 logger = logging.getLogger(__name__)
 
 COMPUTED, CACHED, GIVEN = "computed", "cached", "given"

@@ -39,6 +39,27 @@ from rve_rod.rve.output import write_vtk
 from rve_rod.rve.yarn import YarnSettings
 from rve_rod.surface import read_surface, write_surface
 
+__all__ = [
+    "DIRECTION_CASES",
+    "FIELD_STRAINS",
+    "SOFTENING_TOLERANCE",
+    "STAGE_VERSION",
+    "SURFACE_FIGURE",
+    "SURFACE_FILE",
+    "RunPlan",
+    "StageError",
+    "SurfaceRuns",
+    "file_digest",
+    "geometry_stage",
+    "given_surface",
+    "macro_stages",
+    "meso_stages",
+    "plan_run",
+    "softest_normal_tangents",
+    "surface_stage",
+    "surface_summary",
+]
+
 logger = logging.getLogger(__name__)
 
 SURFACE_FILE = "surface.h5"

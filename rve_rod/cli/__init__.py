@@ -13,6 +13,12 @@ import sys
 from rve_rod import __version__
 from rve_rod.errors import cli_exit_status
 
+__all__ = [
+    "SUBCOMMANDS",
+    "build_parser",
+    "main",
+]
+
 SUBCOMMANDS: tuple[str, ...] = ("geometry", "simulate", "surface", "measure", "synth_photo")
 """Names of the subcommand modules in this package, in the order `--help` lists them."""
 

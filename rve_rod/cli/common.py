@@ -7,6 +7,12 @@ import sys
 from rve_rod.jsonable import to_jsonable
 from rve_rod.presets import Fabric, make_fabric, preset_names
 
+__all__ = [
+    "add_fabric_arguments",
+    "fabric_from_args",
+    "print_json",
+]
+
 
 def add_fabric_arguments(parser: argparse.ArgumentParser) -> None:
     """Add `--preset/--stitch` or explicit `--wale-width/--course-height/--yarn-radius/...`."""

@@ -18,6 +18,14 @@ from rve_rod.homogenize.sampling import SamplingPlan
 from rve_rod.rve.engine import surface_engine
 from rve_rod.surface import STRESS_GROUPS, ResponseSurface, read_surface, write_surface
 
+__all__ = [
+    "describe",
+    "print_report",
+    "register",
+    "run_info",
+    "run_surface",
+]
+
 
 def register(subparsers) -> None:
     """Add the `surface` and `surface-info` subcommands."""
