@@ -50,9 +50,9 @@ class SteppingOptions:
         max_cutbacks: consecutive failed attempts allowed before giving up (16).
         growth_factor: increment growth after an easy step (2).
         easy_iterations: a step with at most this many Newton iterations is easy (5).
-        extrapolate: predict the next state linearly from the last two accepted states
-            instead of starting from the last one (True; `rve_rod.newton.solve_path` only, the
-            membrane's stepper refuses it).
+        extrapolate: start each Newton solve from the linear extrapolation of the last two
+            accepted states instead of the last one (True; the membrane's default
+            `SolverOptions.stepping_options()` turns it off).
     """
 
     initial_increment: float = 1.0
