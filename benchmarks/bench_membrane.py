@@ -39,8 +39,12 @@ from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_materi
 from fabric_dolfinx.membrane import membrane_forms
 from fabric_dolfinx.mesh import plate_with_hole
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
-from fabric_dolfinx.synthetic import synthetic_surface
-from fabric_dolfinx.tension import TensionSetup, TensionTest
+from fabric_dolfinx.tension import TensionSetup
+from fabric_dolfinx.tension_spec import TensionTest
+
+# the synthetic surface is a test fixture (tests/surface_cases.py)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from surface_cases import synthetic_surface
 
 MPI_ENV = {
     **os.environ,

@@ -18,8 +18,9 @@ import numpy as np
 
 from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.bspline import BSplineCurve, open_knot_vector
-from rve_rod.newton import SteppingOptions, solve_path
+from rve_rod.newton import solve_path
 from rve_rod.rod import END, START, Clamp, EndLoad, RodEnd, RodModel, RodPatch, SectionStiffness
+from rve_rod.stepping import SteppingOptions
 
 LENGTH = 10.0
 COUNTS = {

@@ -20,7 +20,8 @@ from mpi4py import MPI
 
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import TensionSetup, TensionTest
+from fabric_dolfinx.tension import TensionSetup
+from fabric_dolfinx.tension_spec import TensionTest
 from knitmech.scene import default_surface_path
 from rve_rod.surface import read_surface
 

@@ -7,7 +7,7 @@
 Run it under `mpirun -n N` as it is; rank 0 prints. Bad input (`InputError`, including
 unusable arguments) prints one line and exits with status 2; a solve that cannot converge
 (`ConvergenceError`) prints one line and exits with status 3 after the converged steps were
-written (JSON, plot, XDMF).
+written (JSON, plot, XDMF); Ctrl-C exits with 130 (`rve_rod.errors.cli_exit_status`).
 """
 
 import argparse
@@ -22,9 +22,17 @@ from fabric_dolfinx.io import read_rve_curve
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
 from fabric_dolfinx.plot import plot_force_strain
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import TensionSetup, TensionTest
-from rve_rod.errors import ConvergenceError, InputError
+from fabric_dolfinx.tension import TensionSetup
+from fabric_dolfinx.tension_spec import TensionTest
+from rve_rod.errors import ConvergenceError, InputError, cli_exit_status
 from rve_rod.surface import read_surface
+
+__all__ = [
+    "PROGRAM",
+    "build_parser",
+    "main",
+    "run_tension_command",
+]
 
 PROGRAM = "fabric-dolfinx"
 
@@ -163,16 +171,8 @@ def main(argv: list[str] | None = None) -> int:
         )
         logging.basicConfig(level=handler.level, handlers=[handler])
         return int(args.run(args) or 0)
-    except InputError as error:
-        if rank == 0:
-            print(f"{PROGRAM} {command}: error: {error}".replace(" :", ":"), file=sys.stderr)
-        return 2
-    except ConvergenceError as error:
-        if rank == 0:
-            print(
-                f"{PROGRAM} {command}: not converged: {error}".replace(" :", ":"), file=sys.stderr
-            )
-        return 3
+    except (Exception, KeyboardInterrupt) as error:
+        return cli_exit_status(f"{PROGRAM} {command}", error, quiet=rank != 0)
 
 
 if __name__ == "__main__":

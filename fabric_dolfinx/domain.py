@@ -15,6 +15,10 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
+__all__ = [
+    "StrainRangeCheck",
+]
+
 logger = logging.getLogger(__name__)
 
 

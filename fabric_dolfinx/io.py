@@ -18,6 +18,13 @@ from dolfinx.io import XDMFFile
 from fabric_dolfinx.membrane import MembraneStress
 from rve_rod.errors import InputError
 
+__all__ = [
+    "CellFields",
+    "RVECurve",
+    "XDMFOutput",
+    "read_rve_curve",
+]
+
 
 class CellFields:
     """DG0 strain and Cauchy stress and the output displacement of a membrane state.

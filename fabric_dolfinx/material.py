@@ -20,6 +20,22 @@ import ufl
 from rve_rod.errors import check_integer, check_positive, check_range
 from rve_rod.surface import ResponseSurface, Spline1D, Spline2D
 
+__all__ = [
+    "Material",
+    "OrthotropicSVK",
+    "PiecewiseBasis",
+    "StressLaw",
+    "piecewise_basis",
+    "rotation",
+    "second_piola_kirchhoff",
+    "spline_1d",
+    "spline_2d",
+    "surface_material",
+    "surface_stress",
+    "svk_material",
+    "svk_stress",
+]
+
 StressLaw = Callable[[ufl.core.expr.Expr], ufl.core.expr.Expr]
 """A material law: Green-Lagrange strain (2, 2) -> second Piola-Kirchhoff stress (2, 2) N/mm,
 both UFL expressions in the material frame."""

@@ -13,6 +13,16 @@ import ufl
 
 from fabric_dolfinx.material import StressLaw, rotation
 
+__all__ = [
+    "MembraneForms",
+    "MembraneStress",
+    "cauchy_stress",
+    "deformation_gradient",
+    "green_lagrange_strain",
+    "membrane_forms",
+    "membrane_stress",
+]
+
 
 def deformation_gradient(u: ufl.core.expr.Expr) -> ufl.core.expr.Expr:
     """F = I + grad u, shape (2, 2), dimensionless."""

@@ -20,6 +20,14 @@ from mpi4py import MPI
 
 from rve_rod.errors import InputError, check_integer, check_positive
 
+__all__ = [
+    "MESH_DIRECTORY",
+    "TaggedMesh",
+    "plate_with_hole",
+    "read_geo",
+    "rectangle_patch",
+]
+
 MESH_DIRECTORY = Path(__file__).resolve().parents[1] / "meshes"
 """The repository's folder of gmsh geometry files."""
 

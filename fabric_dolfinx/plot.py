@@ -13,6 +13,11 @@ from matplotlib.collections import PolyCollection
 
 from fabric_dolfinx.io import CellFields, RVECurve
 
+__all__ = [
+    "plot_cell_field",
+    "plot_force_strain",
+]
+
 
 def plot_force_strain(
     curves: Mapping[str, tuple[np.ndarray, np.ndarray]],

@@ -4,9 +4,12 @@ The solver receives only forms (residual and Jacobian, UFL), the unknown, the Di
 conditions and a callable that sets the load for a load factor t in [0, 1]. Linear systems
 are solved by MUMPS (direct LU, the default) or by GMRES/CG preconditioned with hypre
 BoomerAMG for large meshes; PETSc options with the prefix `fabric_` override either (e.g.
-`-fabric_ksp_monitor`). When Newton fails (no convergence, a non-finite or exploding
-residual, a failed linear solve) the step is halved and retried from the last converged state,
-down to a minimum step; then `ConvergenceError` carries every converged step.
+`-fabric_ksp_monitor`). The load factor is stepped by `rve_rod.stepping.StepController`, the
+step controller of the rod RVE too, with the same vocabulary (`SteppingOptions`,
+`NewtonResult`, `StepRecord`, `PathResult`): when Newton fails (no convergence, a non-finite
+or exploding residual, a failed linear solve) the increment is halved and retried from the
+last converged state, down to `min_increment`; then `ConvergenceError` carries every
+converged step.
 
 The Newton loop is written here rather than taken from `dolfinx.nls.petsc.NewtonSolver`: in
 DOLFINx 0.5.2 the Python binding offers no convergence-check hook, and the built-in relative
@@ -34,6 +37,18 @@ from rve_rod.errors import (
     check_positive,
     check_range,
 )
+from rve_rod.stepping import StepController, SteppingOptions
+
+__all__ = [
+    "LINEAR_SOLVERS",
+    "BoundaryIndicator",
+    "LoadStepper",
+    "NewtonResult",
+    "PathResult",
+    "SolverOptions",
+    "StepRecord",
+    "boundary_indicator",
+]
 
 logger = logging.getLogger(__name__)
 
@@ -58,8 +73,11 @@ class SolverOptions:
         max_iterations: Newton iterations per attempt before the step is cut back.
         divergence_factor: an attempt fails at once if the residual exceeds this times its
             initial value.
-        min_step: the smallest load-factor increment cutbacks may reach.
         krylov_tolerance: relative tolerance of GMRES/CG (unused by LU).
+        stepping: the load stepping between the equal steps; None (default): start with one
+            equal step (1/steps) and never exceed it, halve on failure down to
+            min_increment = 1/1024, double again after every converged step, no
+            extrapolation (`stepping_options()`).
     """
 
     linear_solver: str = "lu"
@@ -69,8 +87,8 @@ class SolverOptions:
     floor_tolerance: float = 1e-8
     max_iterations: int = 25
     divergence_factor: float = 1e6
-    min_step: float = 1.0 / 1024
     krylov_tolerance: float = 1e-10
+    stepping: SteppingOptions | None = None
 
     def __post_init__(self):
         if self.linear_solver not in LINEAR_SOLVERS:
@@ -83,8 +101,20 @@ class SolverOptions:
         check_range("floor_tolerance", self.floor_tolerance, 0.0, 1.0)
         check_integer("max_iterations", self.max_iterations, 1)
         check_positive("divergence_factor", self.divergence_factor)
-        check_positive("min_step", self.min_step)
         check_positive("krylov_tolerance", self.krylov_tolerance)
+
+    def stepping_options(self) -> SteppingOptions:
+        """`stepping`, or the default for `steps` equal steps (see the attribute)."""
+        if self.stepping is not None:
+            return self.stepping
+        nominal = 1.0 / self.steps
+        return SteppingOptions(
+            initial_increment=nominal,
+            max_increment=nominal,
+            min_increment=1.0 / 1024,
+            easy_iterations=self.max_iterations,
+            extrapolate=False,
+        )
 
 
 class BoundaryIndicator(NamedTuple):
@@ -113,57 +143,57 @@ class NewtonResult(NamedTuple):
 
     Attributes:
         converged: whether the residual met the tolerance.
+        iterations: Newton iterations (linear solves).
         residual_norms: 2-norms of the residual (N) before each iteration, iteration 0 first.
-        failure: why the attempt failed ("" if it converged).
+        reason: "converged", or why the attempt failed.
         linear_iterations: Krylov iterations of all its linear solves (1 per solve for LU).
     """
 
     converged: bool
+    iterations: int
     residual_norms: tuple[float, ...]
-    failure: str
+    reason: str
     linear_iterations: int
 
-    @property
-    def iterations(self) -> int:
-        return len(self.residual_norms) - 1
 
-
-class StepResult(NamedTuple):
-    """A converged load step.
+class StepRecord(NamedTuple):
+    """A converged load step (substeps after a cutback included).
 
     Attributes:
         load_factor: t in (0, 1].
-        newton_iterations: iterations of the converged attempt.
+        iterations: Newton iterations of the converged attempt.
         residual_norms: its residual history (N), see NewtonResult.
+        substeps: converged steps since the previous of the equal steps, this one included.
+        cutbacks: failed attempts since the previous of the equal steps.
         linear_iterations: its Krylov iterations (1 per Newton iteration for LU).
         reactions: boundary name -> total reaction force (Fx, Fy) in N, summed over ranks.
         wall_time_s: time since the previous converged step (failed attempts included).
     """
 
     load_factor: float
-    newton_iterations: int
+    iterations: int
     residual_norms: tuple[float, ...]
+    substeps: int
+    cutbacks: int
     linear_iterations: int
     reactions: dict[str, np.ndarray]
     wall_time_s: float
 
 
-class LoadPathResult(NamedTuple):
+class PathResult(NamedTuple):
     """All converged steps of a load path.
 
     Attributes:
         steps: the converged steps in order.
-        cutbacks: how many attempts failed and were retried with half the step.
+        newton_iterations: all Newton iterations, failed attempts included.
+        cutbacks: how many attempts failed and were retried with half the increment.
         wall_time_s: total time (s).
     """
 
-    steps: tuple[StepResult, ...]
+    steps: tuple[StepRecord, ...]
+    newton_iterations: int
     cutbacks: int
     wall_time_s: float
-
-    @property
-    def newton_iterations(self) -> int:
-        return sum(step.newton_iterations for step in self.steps)
 
 
 class LoadStepper:
@@ -212,10 +242,15 @@ class LoadStepper:
         options = self.options
         norms = [self._assemble_residual()]
         linear = 0
+
+        def result(reason: str) -> NewtonResult:
+            converged = reason == "converged"
+            return NewtonResult(converged, len(norms) - 1, tuple(norms), reason, linear)
+
         tolerance = max(options.absolute_tolerance, options.relative_tolerance * norms[0])
         for _ in range(options.max_iterations):
             if _converged(norms, tolerance, options.floor_tolerance):
-                return NewtonResult(True, tuple(norms), "", linear)
+                return result("converged")
             self._matrix.zeroEntries()
             dolfinx.fem.petsc.assemble_matrix(self._matrix, self._jacobian_form, bcs=self.bcs)
             self._matrix.assemble()
@@ -223,19 +258,17 @@ class LoadStepper:
             linear += max(self._ksp.getIterationNumber(), 1)
             reason = self._ksp.getConvergedReason()
             if reason < 0:
-                failure = f"linear solver failed (reason {reason})"
-                return NewtonResult(False, tuple(norms), failure, linear)
+                return result(f"linear solver failed (reason {reason})")
             self.u.vector.axpy(-1.0, self._increment)
             self.u.x.scatter_forward()
             norms.append(self._assemble_residual())
             if not math.isfinite(norms[-1]):
-                return NewtonResult(False, tuple(norms), "residual is not finite", linear)
+                return result("residual is not finite")
             if norms[-1] > options.divergence_factor * norms[0]:
-                return NewtonResult(False, tuple(norms), "residual diverged", linear)
+                return result("residual diverged")
         if _converged(norms, tolerance, options.floor_tolerance):
-            return NewtonResult(True, tuple(norms), "", linear)
-        failure = f"not converged in {options.max_iterations}"
-        return NewtonResult(False, tuple(norms), failure, linear)
+            return result("converged")
+        return result(f"not converged in {options.max_iterations}")
 
     def reaction_forces(self) -> dict[str, np.ndarray]:
         """Boundary name -> (Fx, Fy) N: the residual without Dirichlet rows, acting on the
@@ -252,67 +285,82 @@ class LoadStepper:
     def run(
         self,
         apply_load: Callable[[float], None],
-        on_step: Callable[[StepResult], None] | None = None,
-    ) -> LoadPathResult:
+        on_step: Callable[[StepRecord], None] | None = None,
+    ) -> PathResult:
         """Follow the load path t = 0 -> 1 from the current `u` (the state at t = 0).
 
         `apply_load(t)` sets every load-dependent value (Dirichlet data, constants) for the
         load factor t. `on_step` is called after every converged step (e.g. to write output).
-        Raises ConvergenceError (history: the LoadPathResult so far) when a step cannot be
-        completed even at `min_step`; `u` then holds the last converged state.
+        Raises ConvergenceError (history: the PathResult so far) when a step cannot be
+        completed even at `min_increment`; `u` then holds the last converged state.
         """
-        options = self.options
+        stepping = self.options.stepping_options()
         start = last = time.perf_counter()
-        steps: list[StepResult] = []
-        cutbacks = 0
+        targets = np.linspace(0.0, 1.0, self.options.steps + 1)[1:]
+        controller = StepController(targets, stepping)
+        steps: list[StepRecord] = []
+        iterations = 0
         converged_state = self.u.x.array.copy()
-        nominal = 1.0 / options.steps
-        load, step = 0.0, nominal
-        for station in np.linspace(0.0, 1.0, options.steps + 1)[1:]:
-            while load < station:
-                target = station if station - (load + step) < 1e-12 else load + step
-                apply_load(target)
-                attempt = self.newton()
-                if attempt.converged:
-                    now = time.perf_counter()
-                    record = StepResult(
-                        load_factor=float(target),
-                        newton_iterations=attempt.iterations,
-                        residual_norms=attempt.residual_norms,
-                        linear_iterations=attempt.linear_iterations,
-                        reactions=self.reaction_forces(),
-                        wall_time_s=now - last,
-                    )
-                    last, load = now, target
-                    converged_state[:] = self.u.x.array
-                    steps.append(record)
-                    logger.info(
-                        "load factor %.6g: %d Newton iterations, residual %.3g N",
-                        target,
-                        attempt.iterations,
-                        attempt.residual_norms[-1],
-                    )
-                    if on_step is not None:
-                        on_step(record)
-                    step = min(2.0 * step, nominal)
-                    continue
-                self.u.x.array[:] = converged_state
-                cutbacks += 1
-                step /= 2.0
-                logger.info(
-                    "load factor %.6g: %s; cutting the step to %.3g", target, attempt.failure, step
+        previous_state = None  # the converged state before `converged_state`
+        while not controller.finished:
+            load, trial = controller.load_factor, controller.trial()
+            if stepping.extrapolate and previous_state is not None:
+                ratio = (trial - load) / (load - controller.previous)
+                self.u.x.array[:] = converged_state + ratio * (converged_state - previous_state)
+            apply_load(trial)
+            attempt = self.newton()
+            iterations += attempt.iterations
+            if attempt.converged:
+                count = controller.accept(trial, attempt.iterations)
+                now = time.perf_counter()
+                record = StepRecord(
+                    load_factor=float(trial),
+                    iterations=attempt.iterations,
+                    residual_norms=attempt.residual_norms,
+                    substeps=count.substeps,
+                    cutbacks=count.cutbacks,
+                    linear_iterations=attempt.linear_iterations,
+                    reactions=self.reaction_forces(),
+                    wall_time_s=now - last,
                 )
-                if step < options.min_step:
-                    apply_load(load)
-                    history = LoadPathResult(tuple(steps), cutbacks, time.perf_counter() - start)
-                    raise ConvergenceError(
-                        f"Newton failed at load factor {target:.6g} ({attempt.failure}) even "
-                        f"with the step cut to {step:.3g} < min_step {options.min_step:.3g}; "
-                        f"{len(steps)} steps converged up to load factor {load:.6g}",
-                        last_converged=steps[-1] if steps else None,
-                        history=history,
-                    )
-        return LoadPathResult(tuple(steps), cutbacks, time.perf_counter() - start)
+                last = now
+                if stepping.extrapolate:
+                    previous_state = converged_state.copy()
+                converged_state[:] = self.u.x.array
+                steps.append(record)
+                logger.info(
+                    "load factor %.6g: %d Newton iterations, residual %.3g N",
+                    trial,
+                    attempt.iterations,
+                    attempt.residual_norms[-1],
+                )
+                if on_step is not None:
+                    on_step(record)
+                continue
+            self.u.x.array[:] = converged_state
+            stop = controller.reject(trial)
+            logger.info(
+                "load factor %.6g: %s; cutting the increment to %.3g",
+                trial,
+                attempt.reason,
+                controller.increment,
+            )
+            if stop:
+                apply_load(load)
+                history = PathResult(
+                    tuple(steps), iterations, controller.total_cutbacks, time.perf_counter() - start
+                )
+                raise ConvergenceError(
+                    f"Newton failed at load factor {trial:.6g} ({attempt.reason}) even with "
+                    f"the increment cut to {controller.increment:.3g} (min_increment "
+                    f"{stepping.min_increment:.3g}, {controller.consecutive} cutbacks); "
+                    f"{len(steps)} steps converged up to load factor {load:.6g}",
+                    last_converged=steps[-1] if steps else None,
+                    history=history,
+                )
+        return PathResult(
+            tuple(steps), iterations, controller.total_cutbacks, time.perf_counter() - start
+        )
 
 
 def _converged(norms: list[float], tolerance: float, floor_tolerance: float) -> bool:

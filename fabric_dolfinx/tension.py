@@ -10,7 +10,6 @@ nominal strain (clamp displacement / patch length).
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 from typing import NamedTuple
 
@@ -26,52 +25,22 @@ from fabric_dolfinx.material import Material
 from fabric_dolfinx.membrane import membrane_forms, membrane_stress
 from fabric_dolfinx.mesh import rectangle_patch
 from fabric_dolfinx.solve import (
-    LoadPathResult,
     LoadStepper,
+    PathResult,
     SolverOptions,
-    StepResult,
+    StepRecord,
     boundary_indicator,
 )
-from rve_rod.errors import ConvergenceError, InputError, check_integer, check_positive, check_range
+from fabric_dolfinx.tension_spec import DIRECTIONS, TensionTest
+from rve_rod.errors import ConvergenceError, InputError
 from rve_rod.surface import ResponseSurface
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
-DIRECTIONS = {"course": ("left", "right", 0), "wale": ("bottom", "top", 1)}
-"""Load direction -> (clamped boundary, moving boundary, displaced component)."""
-
-
-@dataclass(frozen=True)
-class TensionTest:
-    """A uniaxial tension test of a square patch.
-
-    Attributes:
-        direction: "course" (along x) or "wale" (along y).
-        size: side of the square patch (mm); the paper uses 50.
-        elements: elements per side; the paper uses 10.
-        max_strain: nominal strain at the end of the load path (-).
-        angle: course direction of the material against the x axis (degrees).
-        element_degree: Lagrange degree of the displacement (1 or 2).
-        quadrature_degree: Gauss rule exactness; None: twice the element degree.
-    """
-
-    direction: str = "course"
-    size: float = 50.0
-    elements: int = 10
-    max_strain: float = 0.2
-    angle: float = 0.0
-    element_degree: int = 1
-    quadrature_degree: int | None = None
-
-    def __post_init__(self):
-        if self.direction not in DIRECTIONS:
-            raise InputError(f"direction={self.direction!r} is not one of {', '.join(DIRECTIONS)}")
-        check_positive("size", self.size, "mm")
-        check_integer("elements", self.elements, 1, 4000)
-        check_range("max_strain", self.max_strain, 0.0, 1.0, closed=False)
-        check_range("angle", self.angle, -360.0, 360.0, "degrees")
-        check_integer("element_degree", self.element_degree, 1, 2)
-        if self.quadrature_degree is not None:
-            check_integer("quadrature_degree", self.quadrature_degree, 1, 12)
+__all__ = [
+    "TensionResult",
+    "TensionSetup",
+    "homogeneous_response",
+]
 
 
 class TensionResult(NamedTuple):
@@ -81,7 +50,7 @@ class TensionResult(NamedTuple):
         strain: (k+1,) nominal strain.
         force_n_per_mm: (k+1,) clamp reaction along the load per undeformed width (N/mm).
         force_gf_per_cm: the same in gf/cm.
-        newton_iterations: (k,) iterations per converged step.
+        newton_iterations: (k,) Newton iterations of each converged step.
         dofs: global number of degrees of freedom.
         ranks: MPI ranks.
         wall_time_s: time of the load path (s), without mesh generation and compilation.
@@ -99,7 +68,7 @@ class TensionResult(NamedTuple):
     wall_time_s: float
     cutbacks: int
     outside_domain: bool
-    path: LoadPathResult
+    path: PathResult
 
 
 class TensionSetup:
@@ -195,7 +164,7 @@ class TensionSetup:
         outside = False
         start = time.perf_counter()
 
-        def after_step(step: StepResult, output: XDMFOutput | None) -> None:
+        def after_step(step: StepRecord, output: XDMFOutput | None) -> None:
             nonlocal outside
             strain = round(step.load_factor * self.test.max_strain, 12)
             if check is not None:
@@ -221,7 +190,7 @@ class TensionSetup:
             ) from None
         return self._result(path, outside, time.perf_counter() - start)
 
-    def _result(self, path: LoadPathResult, outside: bool, wall_time: float) -> TensionResult:
+    def _result(self, path: PathResult, outside: bool, wall_time: float) -> TensionResult:
         strain = np.array([0.0] + [s.load_factor * self.test.max_strain for s in path.steps])
         force = (
             np.array([0.0] + [s.reactions["moving"][self._component] for s in path.steps])
@@ -231,7 +200,7 @@ class TensionSetup:
             strain=strain,
             force_n_per_mm=force,
             force_gf_per_cm=n_per_mm_to_gf_per_cm(force),
-            newton_iterations=np.array([s.newton_iterations for s in path.steps], dtype=int),
+            newton_iterations=np.array([s.iterations for s in path.steps], dtype=int),
             dofs=self.dofs,
             ranks=self.u.function_space.mesh.comm.size,
             wall_time_s=wall_time,
@@ -239,17 +208,6 @@ class TensionSetup:
             outside_domain=outside,
             path=path,
         )
-
-
-def run_tension(
-    material: Material,
-    test: TensionTest = TensionTest(),
-    options: SolverOptions | None = None,
-    comm: MPI.Comm = MPI.COMM_WORLD,
-    xdmf: Path | str | None = None,
-) -> TensionResult:
-    """Build and run a tension test (see TensionSetup.run)."""
-    return TensionSetup(material, test, options, comm).run(xdmf=xdmf)
 
 
 def homogeneous_response(

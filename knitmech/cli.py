@@ -5,9 +5,9 @@
 
 Without a scene file it runs the built-in default scene (cotton 20s/2, stitch 5.5, the
 paper's 50 mm patch course- and wale-wise). Progress goes to stderr; the summary table (or,
-with --json, summary.json) to stdout. Exit status: 0 done; 1 interrupted or a stage failed
-(run the same command again to resume from what finished); 2 bad input, with one line per
-problem of a scene; 3 a solver gave up.
+with --json, summary.json) to stdout. Exit status (`rve_rod.errors.cli_exit_status`): 0 done;
+1 a stage failed and 130 interrupted (run the same command again to resume from what
+finished); 2 bad input, with one line per problem of a scene; 3 a solver gave up.
 """
 
 import argparse
@@ -17,12 +17,21 @@ import os
 import sys
 
 from knitmech.fidelity import LEVELS
-from knitmech.pipeline import default_cache_dir, run_scene
+from knitmech.pipeline import run_scene
 from knitmech.scene import load_scene
 from knitmech.stages import StageError
 from rve_rod import __version__
-from rve_rod.errors import ConvergenceError, InputError
+from rve_rod.cache import default_cache_root
+from rve_rod.errors import InputError, cli_exit_status
 from rve_rod.homogenize.generate import GenerationError
+
+__all__ = [
+    "PROGRAM",
+    "available_cores",
+    "build_parser",
+    "main",
+    "run_command",
+]
 
 PROGRAM = "knitmech"
 
@@ -59,7 +68,9 @@ def build_parser() -> argparse.ArgumentParser:
         default=available_cores(),
         help=f"worker processes for the RVE runs (default: all cores, {available_cores()})",
     )
-    run.add_argument("--cache-dir", help=f"stage and RVE-run cache (default {default_cache_dir()})")
+    run.add_argument(
+        "--cache-dir", help=f"stage and RVE-run cache (default {default_cache_root()})"
+    )
     run.add_argument("--json", action="store_true", help="print summary.json instead of a table")
     verbosity = run.add_mutually_exclusive_group()
     verbosity.add_argument("-q", "--quiet", action="store_true", help="warnings only")
@@ -114,18 +125,9 @@ def main(argv: list[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
         command = args.command
         return int(args.run(args) or 0)
-    except InputError as error:
-        print(f"{PROGRAM} {command}: error: {error}".replace(" :", ":"), file=sys.stderr)
-        return 2
-    except ConvergenceError as error:
-        print(f"{PROGRAM} {command}: not converged: {error}", file=sys.stderr)
-        return 3
-    except (GenerationError, StageError) as error:
-        print(f"{PROGRAM} {command}: stopped: {error}; run again to resume", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:
-        print(f"{PROGRAM} {command}: interrupted; run again to resume", file=sys.stderr)
-        return 1
+    except (Exception, KeyboardInterrupt) as error:
+        resumable = (GenerationError, StageError)
+        return cli_exit_status(f"{PROGRAM} {command}", error, resumable=resumable)
 
 
 if __name__ == "__main__":

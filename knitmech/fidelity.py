@@ -12,6 +12,14 @@ from dataclasses import dataclass
 
 from rve_rod.errors import InputError
 
+__all__ = [
+    "DEFAULT",
+    "LEVELS",
+    "REFERENCE",
+    "Fidelity",
+    "fidelity_level",
+]
+
 
 @dataclass(frozen=True)
 class Fidelity:

@@ -8,6 +8,8 @@ MPI; the pipeline runs it in-process on one rank, or as
 
     mpirun -n N python -m knitmech.macro PATCH.json SURFACE.h5 FOLDER SUMMARY.json
 
+(PATCH.json: a `PatchJob` as JSON)
+
 which rank 0 ends by writing the summary.
 """
 
@@ -23,17 +25,19 @@ from mpi4py import MPI
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.plot import plot_cell_field
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import (
-    DIRECTIONS,
-    TensionSetup,
-    TensionTest,
-    homogeneous_response,
-)
-from knitmech.stages import PatchSpec
-from rve_rod.cli.common import to_jsonable
+from fabric_dolfinx.tension import TensionSetup, homogeneous_response
+from fabric_dolfinx.tension_spec import DIRECTIONS
+from knitmech.records import PatchJob, PatchSummary
 from rve_rod.errors import ConvergenceError, InputError
 from rve_rod.surface import read_surface
 from rve_rod.units import n_per_mm_to_gf_per_cm
+
+__all__ = [
+    "STRESS_COMPONENT",
+    "MidlineProbe",
+    "main",
+    "run_patch",
+]
 
 logger = logging.getLogger(__name__)
 
@@ -78,16 +82,17 @@ class MidlineProbe:
         return (second - first) / self.size
 
 
-def run_patch(spec: PatchSpec, surface_path: Path, folder: Path, comm=MPI.COMM_WORLD) -> dict:
-    """Run the tension test `spec` on the surface file; files go into `folder`.
+def run_patch(job: PatchJob, surface_path: Path, folder: Path, comm=MPI.COMM_WORLD) -> PatchSummary:
+    """Run the tension test of `job` on the surface file; files go into `folder`.
 
-    Returns the summary: strain, force (gf/cm, N/mm), the force of the material alone in
+    Returns the PatchSummary: strain, force (gf/cm, N/mm), the force of the material alone in
     homogeneous uniaxial tension (gf/cm, what the RVE's uniaxial case gives when the surface
     reproduces it), lateral strain and Poisson ratio per step, Newton iterations, cutbacks,
     whether strains left the surface domain, DOFs, ranks, times, `complete` (False when the
     solver gave up; the converged steps are kept) and `force_positive` (False flags a spurious
     equilibrium, e.g. on a surface that softens).
     """
+    test = job.test
     folder = Path(folder)
     if comm.rank == 0:
         for part in ("figures", "paraview"):
@@ -95,33 +100,25 @@ def run_patch(spec: PatchSpec, surface_path: Path, folder: Path, comm=MPI.COMM_W
     comm.barrier()
     surface = read_surface(surface_path)
     material = surface_material(surface, name=Path(surface_path).name)
-    test = TensionTest(
-        direction=spec.direction,
-        size=spec.size,
-        elements=spec.elements,
-        max_strain=spec.max_strain,
-        angle=spec.angle,
-        element_degree=spec.element_degree,
-    )
-    setup = TensionSetup(material, test, SolverOptions(steps=spec.steps), comm)
-    probe = MidlineProbe(setup.u, spec.size, spec.direction)
+    setup = TensionSetup(material, test, SolverOptions(steps=job.steps), comm)
+    probe = MidlineProbe(setup.u, test.size, test.direction)
     lateral = [0.0]
-    field_strain = spec.field_step * spec.max_strain / spec.steps
+    field_strain = job.field_strain
 
     def on_step(strain, fields):
         lateral.append(probe())
         if abs(strain - field_strain) < 1e-9:
             plot_cell_field(
                 fields,
-                folder / "figures" / f"stress_{spec.direction}.png",
-                component=STRESS_COMPONENT[spec.direction],
-                title=f"{spec.direction}-wise tension, {100 * strain:.3g} % strain",
+                folder / "figures" / f"stress_{test.direction}.png",
+                component=STRESS_COMPONENT[test.direction],
+                title=f"{test.direction}-wise tension, {100 * strain:.3g} % strain",
             )
 
     message = ""
     try:
         result = setup.run(
-            xdmf=folder / "paraview" / f"patch_{spec.direction}.xdmf", on_step=on_step
+            xdmf=folder / "paraview" / f"patch_{test.direction}.xdmf", on_step=on_step
         )
     except ConvergenceError as error:
         result, message = error.history, str(error)
@@ -131,32 +128,32 @@ def run_patch(spec: PatchSpec, surface_path: Path, folder: Path, comm=MPI.COMM_W
         logger.warning(
             "macro %s: the clamp force is not positive at strain %.3g: not a physical solution "
             "(see the surface's softest_tangents in summary.json)",
-            spec.direction,
+            test.direction,
             strain[1:][np.argmax(pulled <= 0.0)],
         )
-    alone = [0.0] + [_material_alone(surface, value, spec.direction) for value in strain[1:]]
+    alone = [0.0] + [_material_alone(surface, value, test.direction) for value in strain[1:]]
     lateral_strain = np.array(lateral[: strain.size])
     with np.errstate(divide="ignore", invalid="ignore"):
         poisson = np.where(strain > 0, -lateral_strain / strain, np.nan)
-    return {
-        "direction": spec.direction,
-        "complete": not message,
-        "force_positive": bool(np.all(pulled > 0.0)),
-        "message": message,
-        "strain": strain,
-        "force_gf_per_cm": result.force_gf_per_cm,
-        "force_n_per_mm": result.force_n_per_mm,
-        "material_uniaxial_gf_per_cm": alone,
-        "lateral_strain": lateral_strain,
-        "poisson_ratio": poisson,
-        "newton_iterations": result.newton_iterations,
-        "cutbacks": result.cutbacks,
-        "outside_domain": result.outside_domain,
-        "dofs": result.dofs,
-        "ranks": result.ranks,
-        "solve_time_s": result.wall_time_s,
-        "field_strain": field_strain,
-    }
+    return PatchSummary(
+        direction=test.direction,
+        complete=not message,
+        force_positive=bool(np.all(pulled > 0.0)),
+        message=message,
+        strain=strain,
+        force_gf_per_cm=result.force_gf_per_cm,
+        force_n_per_mm=result.force_n_per_mm,
+        material_uniaxial_gf_per_cm=alone,
+        lateral_strain=lateral_strain,
+        poisson_ratio=poisson,
+        newton_iterations=result.newton_iterations,
+        cutbacks=result.cutbacks,
+        outside_domain=result.outside_domain,
+        dofs=result.dofs,
+        ranks=result.ranks,
+        solve_time_s=result.wall_time_s,
+        field_strain=field_strain,
+    )
 
 
 def _material_alone(surface, strain: float, direction: str) -> float | None:
@@ -173,10 +170,10 @@ def _material_alone(surface, strain: float, direction: str) -> float | None:
 def main(argv: list[str]) -> int:
     """`python -m knitmech.macro PATCH.json SURFACE.h5 FOLDER SUMMARY.json` (see module)."""
     request, surface_path, folder, summary_path = argv
-    spec = PatchSpec(**json.loads(Path(request).read_text()))
-    summary = run_patch(spec, Path(surface_path), Path(folder))
+    job = PatchJob.from_json(json.loads(Path(request).read_text()))
+    summary = run_patch(job, Path(surface_path), Path(folder))
     if MPI.COMM_WORLD.rank == 0:
-        Path(summary_path).write_text(json.dumps(to_jsonable(summary)))
+        Path(summary_path).write_text(json.dumps(summary.to_json()))
     return 0
 
 

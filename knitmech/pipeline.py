@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import NamedTuple, TextIO
 
 from knitmech.fidelity import fidelity_level
+from knitmech.records import GeometrySummary, MesoSummary, PatchSummary, SurfaceSummary
 from knitmech.report import (
     compare_forces,
     plot_comparison,
@@ -46,11 +47,17 @@ from knitmech.stages import (
     surface_stage,
 )
 from rve_rod import __version__
-from rve_rod.cache import ResultCache
-from rve_rod.cli.common import to_jsonable
-from rve_rod.cli.surface import default_cache_dir as default_runs_dir
+from rve_rod.cache import ResultCache, default_cache_root
 from rve_rod.errors import InputError, check_integer
+from rve_rod.jsonable import to_jsonable
 from rve_rod.surface import read_surface
+
+__all__ = [
+    "SUMMARY_FILE",
+    "PipelineResult",
+    "check_plan",
+    "run_scene",
+]
 
 logger = logging.getLogger(__name__)
 
@@ -73,12 +80,6 @@ class PipelineResult(NamedTuple):
     summary: dict
     records: tuple[StageRecord, ...]
     table: str
-
-
-def default_cache_dir() -> Path:
-    """$XDG_CACHE_HOME/knitmech (or ~/.cache/knitmech): `stages/` and `rve-runs/` (the
-    latter shared with `rve-rod surface`)."""
-    return default_runs_dir().parent
 
 
 def check_plan(plan: RunPlan) -> None:
@@ -112,7 +113,8 @@ def run_scene(
         scene: the study (`knitmech.scene.load_scene`).
         fidelity: a level name overriding the scene's.
         output: the results folder (created; files of an earlier run there are replaced).
-        cache_dir: root of the stage and RVE-run caches (default: `default_cache_dir()`).
+        cache_dir: root of the stage cache (`stages/`) and the RVE-run cache (`rve-runs/`,
+            shared with `rve-rod surface`); default `rve_rod.cache.default_cache_root()`.
         jobs: worker processes for the surface's RVE runs.
         progress: stream for the progress bar of the RVE runs (None: none).
 
@@ -123,7 +125,7 @@ def run_scene(
     check_integer("jobs", jobs, 1, 256)
     plan = plan_run(scene, fidelity_level(fidelity or scene.fidelity))
     check_plan(plan)
-    cache_dir = Path(cache_dir) if cache_dir is not None else default_cache_dir()
+    cache_dir = Path(cache_dir) if cache_dir is not None else default_cache_root()
     folder = Path(output)
     _clear_previous(folder)
     stages = StageCache(cache_dir / "stages")
@@ -136,22 +138,25 @@ def run_scene(
 
     created = not folder.exists()
     try:
-        geometry = run(geometry_stage(plan))
+        geometry = GeometrySummary.from_json(run(geometry_stage(plan)))
     except InputError as error:
         if created:
             shutil.rmtree(folder, ignore_errors=True)
         keys = ", ".join(f"fabric.{k}" for k in ("wale_width", "course_height", "yarn_radius"))
         raise SceneError(repr(plan.scene.name), [f"{keys}: {error}"]) from None
-    meso = {stage.item: run(stage) for stage in meso_stages(plan)}
+    meso = {stage.item: MesoSummary.from_json(run(stage)) for stage in meso_stages(plan)}
     if plan.scene.surface.path is None:
         runs = SurfaceRuns(ResultCache(cache_dir / "rve-runs"), jobs, progress)
-        surface = run(surface_stage(plan, runs))
+        surface = SurfaceSummary.from_json(run(surface_stage(plan, runs)))
     else:
         begun = time.perf_counter()
-        surface = to_jsonable(given_surface(Path(plan.scene.surface.path), folder))
+        surface = given_surface(Path(plan.scene.surface.path), folder)
         files = (SURFACE_FILE, SURFACE_FIGURE)
         records.append(StageRecord("surface", "", GIVEN, time.perf_counter() - begun, "", files))
-    macro = {stage.item: run(stage) for stage in macro_stages(plan, folder / SURFACE_FILE)}
+    macro = {
+        stage.item: PatchSummary.from_json(run(stage))
+        for stage in macro_stages(plan, folder / SURFACE_FILE)
+    }
 
     report_started = time.perf_counter()
     records = tuple(records)
@@ -161,10 +166,10 @@ def run_scene(
         "package_version": __version__,
         "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
         "fabric": dataclasses.asdict(plan.fabric),
-        "geometry": geometry,
-        "meso": meso,
-        "surface": surface,
-        "macro": macro,
+        "geometry": geometry.to_json(),
+        "meso": {name: record.to_json() for name, record in meso.items()},
+        "surface": surface.to_json(),
+        "macro": {name: record.to_json() for name, record in macro.items()},
         "forces": compare_forces(meso, macro),
         "poisson_ratios": poisson_ratios(meso, macro),
         "stages": [dataclasses.asdict(record) for record in records],

@@ -11,8 +11,20 @@ from pathlib import Path
 
 import numpy as np
 
+from knitmech.records import MesoSummary, PatchSummary
 from knitmech.stage_cache import StageRecord
 from knitmech.stages import DIRECTION_CASES
+
+__all__ = [
+    "POISSON_STRAINS",
+    "REPORT_STRAINS",
+    "compare_forces",
+    "plot_comparison",
+    "poisson_ratios",
+    "stage_timings",
+    "summary_table",
+    "value_at",
+]
 
 REPORT_STRAINS = (0.05, 0.10, 0.20)
 """Strains at which forces are compared (-)."""
@@ -35,7 +47,7 @@ def value_at(strain: Sequence[float], values: Sequence[float | None], target: fl
     return float(np.interp(target, xs, ys))
 
 
-def compare_forces(meso: Mapping[str, dict], macro: Mapping[str, dict]) -> dict:
+def compare_forces(meso: Mapping[str, MesoSummary], macro: Mapping[str, PatchSummary]) -> dict:
     """Per direction at REPORT_STRAINS (gf/cm): the RVE's uniaxial force (meso), the surface's
     own uniaxial force (the material alone, homogeneous) and the patch's clamp force (macro),
     and (macro - meso) / meso."""
@@ -52,7 +64,7 @@ def compare_forces(meso: Mapping[str, dict], macro: Mapping[str, dict]) -> dict:
         entry = {"strain": list(REPORT_STRAINS)}
         for column, (record, key) in columns.items():
             entry[column] = [
-                None if record is None else value_at(record["strain"], record[key], target)
+                None if record is None else value_at(record.strain, getattr(record, key), target)
                 for target in REPORT_STRAINS
             ]
         entry["relative_difference"] = [
@@ -67,7 +79,7 @@ def compare_forces(meso: Mapping[str, dict], macro: Mapping[str, dict]) -> dict:
     return table
 
 
-def poisson_ratios(meso: Mapping[str, dict], macro: Mapping[str, dict]) -> dict:
+def poisson_ratios(meso: Mapping[str, MesoSummary], macro: Mapping[str, PatchSummary]) -> dict:
     """nu12 and nu21 of the RVE (uniaxial cases) and of the patch (across its middle)."""
     ratios = {}
     for direction, name in POISSON_NAMES.items():
@@ -75,7 +87,7 @@ def poisson_ratios(meso: Mapping[str, dict], macro: Mapping[str, dict]) -> dict:
         entry = {"strain": list(POISSON_STRAINS)}
         for scale, record in sources.items():
             lateral = [
-                None if record is None else value_at(record["strain"], record["lateral_strain"], t)
+                None if record is None else value_at(record.strain, record.lateral_strain, t)
                 for t in POISSON_STRAINS
             ]
             entry[scale] = [
@@ -148,18 +160,19 @@ def summary_table(summary: dict) -> str:
     return "\n".join(lines)
 
 
-def plot_comparison(meso: Mapping[str, dict], macro: Mapping[str, dict], path: Path) -> None:
+def plot_comparison(
+    meso: Mapping[str, MesoSummary], macro: Mapping[str, PatchSummary], path: Path
+) -> None:
     """Force-strain of the patch (markers) and of the RVE (dashed), as the paper's Fig. 8a."""
     from fabric_dolfinx.plot import plot_force_strain  # noqa: PLC0415 (matplotlib on demand)
 
     curves = {
-        f"patch, {d}-wise": (record["strain"], record["force_gf_per_cm"])
-        for d, record in macro.items()
+        f"patch, {d}-wise": (record.strain, record.force_gf_per_cm) for d, record in macro.items()
     }
     references = {
         f"RVE uniaxial, {d}-wise": (
-            meso[case]["strain"],
-            [np.nan if f is None else f for f in meso[case]["force_gf_per_cm"]],
+            meso[case].strain,
+            [np.nan if f is None else f for f in meso[case].force_gf_per_cm],
         )
         for d, case in DIRECTION_CASES.items()
         if case in meso

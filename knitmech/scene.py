@@ -7,7 +7,6 @@ Settings left out of a scene come from its fidelity level (`knitmech.fidelity`);
 describes the format.
 """
 
-import argparse
 import json
 import math
 import tomllib
@@ -17,9 +16,26 @@ from pathlib import Path
 from typing import Any
 
 from knitmech.fidelity import DEFAULT, LEVELS, Fidelity
-from rve_rod.cli.common import fabric_from_args
 from rve_rod.errors import InputError
-from rve_rod.presets import Fabric, load_preset
+from rve_rod.presets import Fabric, load_preset, make_fabric
+
+__all__ = [
+    "DEFAULT_SURFACE",
+    "DIRECTIONS",
+    "FIDELITY_NAMES",
+    "MESO_CASES",
+    "SURFACE_KINDS",
+    "FabricSpec",
+    "MacroSpec",
+    "MesoSpec",
+    "Scene",
+    "SceneError",
+    "SurfaceSpec",
+    "default_scene_path",
+    "default_surface_path",
+    "load_scene",
+    "scene_from_dict",
+]
 
 MESO_CASES = (
     "uniaxial-course",
@@ -167,8 +183,7 @@ class Scene:
 
     def fabric_model(self) -> Fabric:
         """The yarn and knit of the scene: the preset's values with the explicit ones on top."""
-        # the same rule as the rve-rod options (--preset, --stitch, --wale-width, ...)
-        return fabric_from_args(argparse.Namespace(**asdict(self.fabric)))
+        return make_fabric(**asdict(self.fabric))
 
 
 def default_scene_path() -> Path:

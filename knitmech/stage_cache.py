@@ -23,7 +23,17 @@ from typing import NamedTuple
 import numpy as np
 
 from rve_rod.cache import ResultCache, cache_key
-from rve_rod.cli.common import to_jsonable
+from rve_rod.jsonable import to_jsonable
+
+__all__ = [
+    "CACHED",
+    "COMPUTED",
+    "GIVEN",
+    "Stage",
+    "StageCache",
+    "StageRecord",
+    "StageResult",
+]
 
 logger = logging.getLogger(__name__)
 

@@ -15,28 +15,50 @@ import os
 import shutil
 import subprocess
 import sys
-from dataclasses import dataclass
 from pathlib import Path
 from typing import NamedTuple, TextIO
 
 import numpy as np
 
+from fabric_dolfinx.tension_spec import TensionTest
 from knitmech.fidelity import Fidelity
+from knitmech.records import GeometrySummary, MesoSummary, PatchJob, PatchSummary, SurfaceSummary
 from knitmech.scene import Scene
 from knitmech.stage_cache import Stage
 from rve_rod.cache import ResultCache
-from rve_rod.cli.common import to_jsonable
 from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.loop import loop_geometry
 from rve_rod.homogenize.fit import FitOptions
 from rve_rod.homogenize.generate import engine_identity, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
+from rve_rod.jsonable import to_jsonable
 from rve_rod.presets import Fabric
 from rve_rod.rve import RodRve, RveSettings, load_case, simulate
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.output import write_vtk
 from rve_rod.rve.yarn import YarnSettings
 from rve_rod.surface import read_surface, write_surface
+
+__all__ = [
+    "DIRECTION_CASES",
+    "FIELD_STRAINS",
+    "SOFTENING_TOLERANCE",
+    "STAGE_VERSION",
+    "SURFACE_FIGURE",
+    "SURFACE_FILE",
+    "RunPlan",
+    "StageError",
+    "SurfaceRuns",
+    "file_digest",
+    "geometry_stage",
+    "given_surface",
+    "macro_stages",
+    "meso_stages",
+    "plan_run",
+    "softest_normal_tangents",
+    "surface_stage",
+    "surface_summary",
+]
 
 logger = logging.getLogger(__name__)
 
@@ -124,9 +146,9 @@ def geometry_stage(plan: RunPlan) -> Stage:
         geometry = loop_geometry(knit, radius)
         (folder / "figures").mkdir()
         plot_loop(geometry, folder / "figures" / "loop.png")
-        summary = geometry.to_dict()
-        del summary["control_points"]
-        return summary
+        values = geometry.to_dict()
+        del values["control_points"]
+        return GeometrySummary(values).to_json()
 
     return Stage("geometry", "", inputs, compute)
 
@@ -169,20 +191,8 @@ def _meso_stage(plan: RunPlan, name: str, max_strain: float, steps: int) -> Stag
         (folder / "meso" / f"{name}.json").write_text(json.dumps(to_jsonable(record), indent=1))
         plot_curve(result, folder / "figures" / f"rve_{name}.png")
         write_vtk(result, folder / "paraview" / f"rve_{name}")
-        return {
-            key: record[key]
-            for key in (
-                "case",
-                "complete",
-                "message",
-                "strain",
-                "force_gf_per_cm",
-                "lateral_strain",
-                "poisson_ratio",
-                "newton_iterations_total",
-                "wall_time_s",
-            )
-        }
+        fields = [field.name for field in dataclasses.fields(MesoSummary)]
+        return MesoSummary(**{key: record[key] for key in fields}).to_json()
 
     return Stage("meso", name, inputs, compute)
 
@@ -229,26 +239,26 @@ def surface_stage(plan: RunPlan, runs: SurfaceRuns) -> Stage:
         write_surface(folder / SURFACE_FILE, generated.surface)
         _plot_surface(generated.surface, folder)
         outcome = generated.runs
-        return {
-            **surface_summary(generated.surface),
-            "fits": {kind: _report_dict(report) for kind, report in generated.reports.items()},
-            "runs": len(outcome.runs),
-            "runs_computed": outcome.computed,
-            "runs_cached": outcome.cached,
-            "incomplete_runs": generated.surface.parameters["incomplete_runs"],
-            "max_stress_asymmetry": generated.samples.max_asymmetry,
-        }
+        return dataclasses.replace(
+            surface_summary(generated.surface),
+            fits={kind: _report_dict(report) for kind, report in generated.reports.items()},
+            runs=len(outcome.runs),
+            runs_computed=outcome.computed,
+            runs_cached=outcome.cached,
+            incomplete_runs=generated.surface.parameters["incomplete_runs"],
+            max_stress_asymmetry=generated.samples.max_asymmetry,
+        ).to_json()
 
     return Stage("surface", "", inputs, compute)
 
 
-def given_surface(path: Path, folder: Path) -> dict:
+def given_surface(path: Path, folder: Path) -> SurfaceSummary:
     """Copy a surface file the scene gives into `folder`, plot it; returns its summary."""
 
     shutil.copyfile(path, folder / SURFACE_FILE)
     surface = read_surface(folder / SURFACE_FILE)
     _plot_surface(surface, folder)
-    return {**surface_summary(surface), "source": str(path)}
+    return dataclasses.replace(surface_summary(surface), source=str(path))
 
 
 SOFTENING_TOLERANCE = 1e-9
@@ -256,7 +266,7 @@ SOFTENING_TOLERANCE = 1e-9
 warned of; above, it is round-off of a fit held at zero slope (the monotone stress fit)."""
 
 
-def surface_summary(surface) -> dict:
+def surface_summary(surface) -> SurfaceSummary:
     """Kind, domain, residuals and softest normal stiffness of a surface (warned if < 0
     beyond round-off)."""
     softest = softest_normal_tangents(surface)
@@ -269,12 +279,12 @@ def surface_summary(surface) -> dict:
                 entry["value"],
                 *entry["strain"],
             )
-    return {
-        "kind": surface.kind,
-        "domain": surface.domain.tolist(),
-        "residuals": {k: v._asdict() for k, v in surface.residual_stats().items()},
-        "softest_tangents": softest,
-    }
+    return SurfaceSummary(
+        kind=surface.kind,
+        domain=surface.domain,
+        residuals={k: v._asdict() for k, v in surface.residual_stats().items()},
+        softest_tangents=softest,
+    )
 
 
 def softest_normal_tangents(surface, points_per_axis: int = 41) -> dict:
@@ -319,31 +329,6 @@ def file_digest(path: Path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-@dataclass(frozen=True)
-class PatchSpec:
-    """One patch tension test of the macro stage (see fabric_dolfinx.tension.TensionTest).
-
-    Attributes:
-        direction: "course" or "wale".
-        size: side of the square patch (mm).
-        elements: elements per side.
-        max_strain: final nominal strain (-).
-        steps: load steps.
-        angle: course direction against the x axis (degrees).
-        element_degree: Lagrange degree of the displacement.
-        field_step: the load step whose stress map is drawn (1..steps).
-    """
-
-    direction: str
-    size: float
-    elements: int
-    max_strain: float
-    steps: int
-    angle: float
-    element_degree: int
-    field_step: int
-
-
 def macro_stages(plan: RunPlan, surface_path: Path) -> list[Stage]:
     """One patch tension test per direction of the scene on the surface at `surface_path`."""
     macro = plan.scene.macro
@@ -352,38 +337,37 @@ def macro_stages(plan: RunPlan, surface_path: Path) -> list[Stage]:
     for direction in macro.directions:
         step = macro.max_strain / macro.steps
         nearest = min(max(round(FIELD_STRAINS[direction] / step), 1), macro.steps)
-        spec = PatchSpec(
+        test = TensionTest(
             direction=direction,
             size=macro.size,
             elements=macro.elements,
             max_strain=macro.max_strain,
-            steps=macro.steps,
             angle=macro.angle,
             element_degree=plan.fidelity.element_degree,
-            field_step=nearest,
         )
-        inputs = {"version": STAGE_VERSION, "surface_sha256": digest, "patch": spec}
+        job = PatchJob(test=test, steps=macro.steps, field_step=nearest)
+        inputs = {"version": STAGE_VERSION, "surface_sha256": digest, "patch": job}
         stages.append(
-            Stage("macro", direction, inputs, _macro_compute(spec, surface_path, macro.ranks))
+            Stage("macro", direction, inputs, _macro_compute(job, surface_path, macro.ranks))
         )
     return stages
 
 
-def _macro_compute(spec, surface_path: Path, ranks: int):
+def _macro_compute(job: PatchJob, surface_path: Path, ranks: int):
     def compute(folder: Path) -> dict:
         if ranks == 1:
             from knitmech.macro import run_patch  # noqa: PLC0415 (dolfinx on demand)
 
-            return run_patch(spec, surface_path, folder)
-        return _run_patch_mpi(spec, surface_path, folder, ranks)
+            return run_patch(job, surface_path, folder).to_json()
+        return _run_patch_mpi(job, surface_path, folder, ranks).to_json()
 
     return compute
 
 
-def _run_patch_mpi(spec, surface_path: Path, folder: Path, ranks: int) -> dict:
+def _run_patch_mpi(job: PatchJob, surface_path: Path, folder: Path, ranks: int) -> PatchSummary:
     """Run `knitmech.macro` under `mpirun -n ranks`; returns the summary rank 0 wrote."""
     request = folder / ".patch.json"
-    request.write_text(json.dumps(dataclasses.asdict(spec)))
+    request.write_text(json.dumps(job.to_json()))
     summary_path = folder / ".patch-summary.json"
     command = [
         "mpirun",
@@ -403,12 +387,12 @@ def _run_patch_mpi(spec, surface_path: Path, folder: Path, ranks: int) -> dict:
         "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
         "OMPI_MCA_rmaps_base_oversubscribe": "1",
     }
-    logger.info("macro %s: %s", spec.direction, " ".join(command))
+    logger.info("macro %s: %s", job.test.direction, " ".join(command))
     process = subprocess.run(command, check=False, capture_output=True, text=True, env=environment)
     if process.returncode != 0:
         tail = "\n".join(process.stderr.strip().splitlines()[-5:])
-        raise StageError(f"macro {spec.direction} under mpirun failed: {tail}")
-    summary = json.loads(summary_path.read_text())
+        raise StageError(f"macro {job.test.direction} under mpirun failed: {tail}")
+    summary = PatchSummary.from_json(json.loads(summary_path.read_text()))
     for path in (request, summary_path):
         path.unlink()
     return summary

@@ -29,9 +29,30 @@ from rve_rod import __version__
 from rve_rod.atomic import atomic_write
 from rve_rod.errors import InputError
 
+__all__ = [
+    "ResultCache",
+    "cache_key",
+    "canonical_json",
+    "default_cache_root",
+    "default_runs_dir",
+]
+
 logger = logging.getLogger(__name__)
 
 _INPUTS_MEMBER = "__inputs__"
+
+
+def default_cache_root() -> Path:
+    """$XDG_CACHE_HOME/knitmech, or ~/.cache/knitmech when XDG_CACHE_HOME is unset or empty:
+    the root of every cache of the project (`rve-runs/`, the pipeline's `stages/`)."""
+    root = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(root) / "knitmech"
+
+
+def default_runs_dir() -> Path:
+    """`default_cache_root()/rve-runs`: the RVE runs of response surfaces, shared by
+    `rve-rod surface` and `knitmech run`."""
+    return default_cache_root() / "rve-runs"
 
 
 def _canonical(value):

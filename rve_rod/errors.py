@@ -1,13 +1,40 @@
-"""Typed errors shared by both scales, and the checks that raise them for bad input.
+"""Typed errors shared by both scales, the checks that raise them for bad input, and the exit
+statuses the command-line tools give them.
 
 `InputError` is what a user can fix (a parameter outside its valid range); the command-line
 tools print its one-line message and exit with status 2. `ConvergenceError` is what a solver
-raises when it cannot go on; it carries everything that converged before it stopped.
+raises when it cannot go on; it carries everything that converged before it stopped (exit
+status 3). `cli_exit_status` is the one mapping of the three tools (`rve-rod`,
+`fabric-dolfinx`, `knitmech`).
 """
 
 import math
 import numbers
+import sys
 from typing import Any
+
+__all__ = [
+    "EXIT_INPUT",
+    "EXIT_INTERRUPTED",
+    "EXIT_NOT_CONVERGED",
+    "EXIT_STOPPED",
+    "ConvergenceError",
+    "InputError",
+    "check_finite",
+    "check_integer",
+    "check_positive",
+    "check_range",
+    "cli_exit_status",
+]
+
+EXIT_STOPPED = 1
+"""Exit status of a run that stopped on an error it can resume from (run it again)."""
+EXIT_INPUT = 2
+"""Exit status for bad input (`InputError`)."""
+EXIT_NOT_CONVERGED = 3
+"""Exit status of a solver that gave up (`ConvergenceError`) after saving what converged."""
+EXIT_INTERRUPTED = 130
+"""Exit status after Ctrl-C (128 + SIGINT, as shells report it)."""
 
 
 class InputError(ValueError):
@@ -81,3 +108,35 @@ def check_integer(name: str, value: int, low: int, high: int | None = None) -> i
         upper = "inf" if high is None else str(high)
         raise InputError(f"{name}={number} is outside the valid range [{low}, {upper}]")
     return number
+
+
+def cli_exit_status(
+    program: str,
+    error: BaseException,
+    *,
+    resumable: tuple[type[Exception], ...] = (),
+    quiet: bool = False,
+) -> int:
+    """The exit status of a command-line tool that stopped on `error`, after printing why on
+    stderr as one line prefixed by `program` (e.g. "rve-rod simulate"):
+
+    InputError -> EXIT_INPUT ("error: ..."), ConvergenceError -> EXIT_NOT_CONVERGED
+    ("not converged: ..."), an error of a `resumable` type -> EXIT_STOPPED ("stopped: ...;
+    run again to resume"), KeyboardInterrupt -> EXIT_INTERRUPTED ("interrupted"). Any other
+    error (SystemExit of --help included) is raised again. `quiet` prints nothing (MPI ranks
+    other than 0).
+    """
+    resume = "; run again to resume" if resumable else ""
+    if isinstance(error, InputError):
+        status, line = EXIT_INPUT, f"error: {error}"
+    elif isinstance(error, ConvergenceError):
+        status, line = EXIT_NOT_CONVERGED, f"not converged: {error}"
+    elif isinstance(error, resumable):
+        status, line = EXIT_STOPPED, f"stopped: {error}{resume}"
+    elif isinstance(error, KeyboardInterrupt):
+        status, line = EXIT_INTERRUPTED, f"interrupted{resume}"
+    else:
+        raise error
+    if not quiet:
+        print(f"{program.strip()}: {line}", file=sys.stderr)
+    return status

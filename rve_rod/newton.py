@@ -10,12 +10,13 @@ that make the convergence norms dimensionless. A step from t_n to t_n+1 is accep
 A step whose Newton iteration fails (non-finite values, residual growth beyond
 `divergence_factor`, or `max_iterations` reached) is retried with half the increment, down to
 `min_increment` and at most `max_cutbacks` times in a row; easy steps let the increment grow
-again. A converged state the problem's `admissible` hook refuses (a state the model does not
-describe, e.g. yarns squeezed through each other) counts as a failed attempt, so the increment
-is cut back towards the last admissible state. After every accepted step the problem's
-`commit` hook runs (history variables such as friction slip). If the path cannot be continued,
-`ConvergenceError` carries the last accepted step and every step before it. Linear systems
-are solved by SuperLU (scipy.sparse.linalg.splu).
+again (the step controller and `SteppingOptions` of `rve_rod.stepping`, shared with the
+membrane's PETSc solver). A converged state the problem's `admissible` hook refuses (a state
+the model does not describe, e.g. yarns squeezed through each other) counts as a failed
+attempt, so the increment is cut back towards the last admissible state. After every
+accepted step the problem's `commit` hook runs (history variables such as friction slip). If
+the path cannot be continued, `ConvergenceError` carries the last accepted step and every
+step before it. Linear systems are solved by SuperLU (scipy.sparse.linalg.splu).
 """
 
 import logging
@@ -27,6 +28,17 @@ import scipy.sparse
 import scipy.sparse.linalg
 
 from rve_rod.errors import ConvergenceError, InputError, check_integer, check_positive
+from rve_rod.stepping import StepController, SteppingOptions
+
+__all__ = [
+    "NewtonOptions",
+    "NewtonResult",
+    "NonlinearProblem",
+    "PathResult",
+    "StepRecord",
+    "newton_solve",
+    "solve_path",
+]
 
 logger = logging.getLogger(__name__)
 
@@ -97,39 +109,6 @@ class NewtonOptions:
             )
 
 
-@dataclass(frozen=True)
-class SteppingOptions:
-    """Options of the load stepping.
-
-    Attributes:
-        initial_increment: first load-factor increment (default 1: try the whole way).
-        max_increment: largest increment (1).
-        min_increment: smallest increment before giving up (1e-6).
-        max_cutbacks: consecutive halvings allowed before giving up (16).
-        growth_factor: increment growth after an easy step (2).
-        easy_iterations: a step with at most this many iterations is easy (5).
-        extrapolate: predict the next state linearly from the last two converged steps
-            instead of starting from the last one (True).
-    """
-
-    initial_increment: float = 1.0
-    max_increment: float = 1.0
-    min_increment: float = 1e-6
-    max_cutbacks: int = 16
-    growth_factor: float = 2.0
-    easy_iterations: int = 5
-    extrapolate: bool = True
-
-    def __post_init__(self):
-        check_positive("initial_increment", self.initial_increment)
-        check_positive("max_increment", self.max_increment)
-        check_positive("min_increment", self.min_increment)
-        check_integer("max_cutbacks", self.max_cutbacks, 0)
-        if self.growth_factor < 1.0:
-            raise InputError(f"growth_factor={self.growth_factor} must be >= 1")
-        check_integer("easy_iterations", self.easy_iterations, 1)
-
-
 @dataclass(frozen=True, eq=False)
 class NewtonResult:
     """Outcome of one Newton solve at a fixed load factor.
@@ -181,10 +160,12 @@ class PathResult:
     Attributes:
         steps: StepRecord per requested load factor, in order.
         newton_iterations: total Newton iterations, including failed attempts.
+        cutbacks: all failed (or refused) attempts.
     """
 
     steps: list[StepRecord] = field(default_factory=list)
     newton_iterations: int = 0
+    cutbacks: int = 0
 
     @property
     def final_state(self) -> np.ndarray:
@@ -295,84 +276,79 @@ def solve_path(
 
     `initial_state` must be an equilibrium at t = `start` (e.g. the unloaded reference state);
     it is recorded as the first step. Between requested load factors the increment adapts
-    (cutback on failure or on a converged state `problem.admissible` refuses, growth after
-    easy steps).
+    (`rve_rod.stepping.StepController`: cutback on failure or on a converged state
+    `problem.admissible` refuses, growth after easy steps).
 
     Raises:
         ConvergenceError: when the increment would fall below `min_increment` or more than
             `max_cutbacks` consecutive halvings fail (or are refused); `last_converged` is the
             last accepted StepRecord (possibly a substep) and `history` the PathResult up to there.
     """
-    targets = np.asarray(load_factors, dtype=float)
-    if targets.ndim != 1 or targets.size == 0 or np.any(np.diff(np.r_[start, targets]) <= 0):
-        raise InputError(
-            f"load_factors must increase strictly from start={start}: {targets.tolist()}"
-        )
+    controller = StepController(load_factors, stepping, start)
     state = np.array(initial_state, dtype=float)
     result = PathResult(steps=[StepRecord(float(start), state.copy(), 0, ())])
-    t = float(start)
-    previous = None  # (t, state) of the converged step before the current one
-    increment = min(stepping.initial_increment, stepping.max_increment)
-    for target in targets:
-        substeps = cutbacks = consecutive = 0
-        last = None
-        while t < target:
-            trial = min(t + increment, target)
-            if target - trial < 1e-12 * max(1.0, abs(target)):
-                trial = float(target)
-            guess = state
-            if stepping.extrapolate and previous is not None:
-                guess = state + (trial - t) / (t - previous[0]) * (state - previous[1])
-            attempt = newton_solve(problem, guess, trial, newton)
-            result.newton_iterations += attempt.iterations
-            reason = attempt.reason
-            if attempt.converged and problem.admissible is not None:
-                reason = problem.admissible(attempt.state, trial) or reason
-            if reason == "converged":
-                previous = (t, state)
-                t, state = trial, attempt.state
-                if problem.commit is not None:
-                    problem.commit(state, t)
-                substeps += 1
-                consecutive = 0
-                last = attempt
-                if attempt.iterations <= stepping.easy_iterations:
-                    increment = min(increment * stepping.growth_factor, stepping.max_increment)
-                continue
-            cutbacks += 1
-            consecutive += 1
-            increment = 0.5 * (trial - t)
-            logger.warning(
-                "t=%.6g not reached from t=%.6g (%s after %d iterations); increment cut to %.3g",
-                trial,
-                t,
-                reason,
-                attempt.iterations,
-                increment,
-            )
-            if increment < stepping.min_increment or consecutive > stepping.max_cutbacks:
-                last_record = StepRecord(
-                    t,
-                    state.copy(),
-                    0 if last is None else last.iterations,
-                    () if last is None else last.residual_norms,
-                    substeps,
-                    cutbacks,
+    previous_state = None  # the accepted state before the current one
+    last = None  # the last accepted Newton solve on the way to the current target
+    while not controller.finished:
+        t, target = controller.load_factor, controller.target
+        trial = controller.trial()
+        guess = state
+        if stepping.extrapolate and previous_state is not None:
+            guess = state + (trial - t) / (t - controller.previous) * (state - previous_state)
+        attempt = newton_solve(problem, guess, trial, newton)
+        result.newton_iterations += attempt.iterations
+        reason = attempt.reason
+        if attempt.converged and problem.admissible is not None:
+            reason = problem.admissible(attempt.state, trial) or reason
+        if reason == "converged":
+            previous_state, state, last = state, attempt.state, attempt
+            if problem.commit is not None:
+                problem.commit(state, trial)
+            count = controller.accept(trial, attempt.iterations)
+            if count.reached:
+                result.steps.append(
+                    StepRecord(
+                        trial,
+                        state.copy(),
+                        last.iterations,
+                        last.residual_norms,
+                        count.substeps,
+                        count.cutbacks,
+                    )
                 )
-                raise ConvergenceError(
-                    f"no accepted state beyond load factor t={t:.6g} on the way to {target:.6g}: "
-                    f"{reason} (increment {increment:.3g}, {consecutive} cutbacks)",
-                    last_converged=last_record,
-                    history=result,
+                logger.info(
+                    "t=%.6g converged: %d substeps, %d cutbacks, %d iterations in the last",
+                    trial,
+                    count.substeps,
+                    count.cutbacks,
+                    last.iterations,
                 )
-        result.steps.append(
-            StepRecord(t, state.copy(), last.iterations, last.residual_norms, substeps, cutbacks)
-        )
-        logger.info(
-            "t=%.6g converged: %d substeps, %d cutbacks, %d iterations in the last",
+                last = None
+            continue
+        stop = controller.reject(trial)
+        result.cutbacks = controller.total_cutbacks
+        logger.warning(
+            "t=%.6g not reached from t=%.6g (%s after %d iterations); increment cut to %.3g",
+            trial,
             t,
-            substeps,
-            cutbacks,
-            last.iterations,
+            reason,
+            attempt.iterations,
+            controller.increment,
         )
+        if stop:
+            last_record = StepRecord(
+                t,
+                state.copy(),
+                0 if last is None else last.iterations,
+                () if last is None else last.residual_norms,
+                controller.substeps,
+                controller.cutbacks,
+            )
+            raise ConvergenceError(
+                f"no accepted state beyond load factor t={t:.6g} on the way to {target:.6g}: "
+                f"{reason} (increment {controller.increment:.3g}, "
+                f"{controller.consecutive} cutbacks)",
+                last_converged=last_record,
+                history=result,
+            )
     return result

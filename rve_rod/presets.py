@@ -6,11 +6,22 @@ run time. Preset names use dashes (`cotton-20s2`); the TOML tables use underscor
 """
 
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cache
 from importlib.resources import files
 
 from rve_rod.errors import InputError, check_positive, check_range
+
+__all__ = [
+    "Fabric",
+    "Knit",
+    "Yarn",
+    "load_preset",
+    "make_fabric",
+    "preset_names",
+    "reference_data",
+    "stitch_values",
+]
 
 
 @dataclass(frozen=True)
@@ -127,10 +138,64 @@ def load_preset(preset: str, stitch: float | None = None) -> Fabric:
     return Fabric(yarn=yarn, knit=knit, name=preset)
 
 
-def model_settings() -> dict:
-    """The paper's model settings: the [model], [macro] and [performance] tables."""
-    data = reference_data()
-    return {key: dict(data[key]) for key in ("model", "macro", "performance")}
+def make_fabric(
+    preset: str | None,
+    stitch: float | None = None,
+    *,
+    wale_width: float | None = None,
+    course_height: float | None = None,
+    yarn_radius: float | None = None,
+    youngs_modulus: float | None = None,
+    poissons_ratio: float | None = None,
+    friction: float | None = None,
+    need_material: bool = True,
+) -> Fabric:
+    """A fabric from a preset and/or explicit values; explicit values override the preset's.
+
+    The one rule behind the `rve-rod` options (`--preset`, `--wale-width`, ...) and the
+    scene's `[fabric]` table.
+
+    Args:
+        preset: a name from `preset_names()`, or None for a fabric given by values alone.
+        stitch: the preset's stitch value (mm), see `load_preset`; needs a preset.
+        wale_width: w (mm). course_height: c (mm). yarn_radius: r0 (mm).
+        youngs_modulus: E0 (MPa). poissons_ratio: nu (-). friction: mu (-).
+        need_material: without a preset, whether youngs_modulus is required (geometry alone
+            does not need it; then E0 = 1 MPa stands in).
+
+    Raises:
+        InputError: an unknown preset or stitch, a stitch without a preset, a value missing
+            without a preset, or a value outside its range.
+    """
+    if preset is not None:
+        fabric = load_preset(preset, stitch)
+        yarn, knit = fabric.yarn, fabric.knit
+    else:
+        if stitch is not None:
+            raise InputError(f"stitch={stitch} needs a preset")
+        required = {
+            "wale_width": wale_width,
+            "course_height": course_height,
+            "yarn_radius": yarn_radius,
+            "youngs_modulus": youngs_modulus if need_material else 1.0,
+        }
+        missing = [name for name, value in required.items() if value is None]
+        if missing:
+            raise InputError(f"give a preset, or all of {', '.join(missing)}")
+        yarn = Yarn(minimal_radius=yarn_radius, youngs_modulus=youngs_modulus or 1.0)
+        knit = Knit(wale_width=wale_width, course_height=course_height)
+    yarn_overrides = {
+        "minimal_radius": yarn_radius,
+        "youngs_modulus": youngs_modulus,
+        "poissons_ratio": poissons_ratio,
+        "friction_coefficient": friction,
+    }
+    knit_overrides = {"wale_width": wale_width, "course_height": course_height}
+    return Fabric(
+        yarn=replace(yarn, **{k: v for k, v in yarn_overrides.items() if v is not None}),
+        knit=replace(knit, **{k: v for k, v in knit_overrides.items() if v is not None}),
+        name=preset or "",
+    )
 
 
 def _fabric_table(preset: str) -> dict:

@@ -12,6 +12,14 @@ import numpy as np
 
 from rve_rod.errors import InputError
 
+__all__ = [
+    "MembraneState",
+    "green_lagrange",
+    "membrane_state",
+    "second_piola_kirchhoff",
+    "voigt",
+]
+
 
 class MembraneState(NamedTuple):
     """Strain and stress of m states in Voigt order.

@@ -4,6 +4,8 @@ Membrane forces per width are N/mm internally; the textile literature and our re
 report them in gram-force per centimetre (1 gf = 9.80665e-3 N).
 """
 
+__all__ = ["GF_PER_CM_PER_N_PER_MM", "GRAM_FORCE", "n_per_mm_to_gf_per_cm"]
+
 GRAM_FORCE = 9.80665e-3
 """One gram-force in newtons."""
 
@@ -14,8 +16,3 @@ GF_PER_CM_PER_N_PER_MM = 10.0 / GRAM_FORCE
 def n_per_mm_to_gf_per_cm(force_per_width):
     """Convert a force per width from N/mm to gf/cm (scalar or numpy array)."""
     return force_per_width * GF_PER_CM_PER_N_PER_MM
-
-
-def gf_per_cm_to_n_per_mm(force_per_width):
-    """Convert a force per width from gf/cm to N/mm (scalar or numpy array)."""
-    return force_per_width / GF_PER_CM_PER_N_PER_MM

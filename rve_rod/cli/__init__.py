@@ -3,7 +3,7 @@
 Every subcommand module adds its parser and sets `run=callable(args) -> int`. Bad input
 (`InputError`) prints one line and exits with status 2; a solver that cannot converge
 (`ConvergenceError`) prints one line and exits with status 3 after the subcommand has saved
-what converged.
+what converged; Ctrl-C exits with 130 (`rve_rod.errors.cli_exit_status`).
 """
 
 import argparse
@@ -11,7 +11,13 @@ import logging
 import sys
 
 from rve_rod import __version__
-from rve_rod.errors import ConvergenceError, InputError
+from rve_rod.errors import cli_exit_status
+
+__all__ = [
+    "SUBCOMMANDS",
+    "build_parser",
+    "main",
+]
 
 SUBCOMMANDS: tuple[str, ...] = ("geometry", "simulate", "surface", "measure", "synth_photo")
 """Names of the subcommand modules in this package, in the order `--help` lists them."""
@@ -43,12 +49,8 @@ def main(argv: list[str] | None = None) -> int:
     )
     try:
         return int(args.run(args) or 0)
-    except InputError as error:
-        print(f"rve-rod {args.command}: error: {error}", file=sys.stderr)
-        return 2
-    except ConvergenceError as error:
-        print(f"rve-rod {args.command}: not converged: {error}", file=sys.stderr)
-        return 3
+    except (Exception, KeyboardInterrupt) as error:
+        return cli_exit_status(f"rve-rod {args.command}", error)
 
 
 if __name__ == "__main__":

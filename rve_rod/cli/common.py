@@ -2,13 +2,16 @@
 
 import argparse
 import json
-import math
 import sys
 
-import numpy as np
+from rve_rod.jsonable import to_jsonable
+from rve_rod.presets import Fabric, make_fabric, preset_names
 
-from rve_rod.errors import InputError
-from rve_rod.presets import Fabric, Knit, Yarn, load_preset, preset_names
+__all__ = [
+    "add_fabric_arguments",
+    "fabric_from_args",
+    "print_json",
+]
 
 
 def add_fabric_arguments(parser: argparse.ArgumentParser) -> None:
@@ -25,58 +28,18 @@ def add_fabric_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def fabric_from_args(args: argparse.Namespace, *, need_material: bool = True) -> Fabric:
-    """The fabric named by `add_fabric_arguments` options; explicit values override a preset.
-
-    Without a preset, wale width, course height and yarn radius are required, and so is the
-    Young's modulus when `need_material` is true (geometry alone does not need it).
-    """
-    if args.preset is not None:
-        fabric = load_preset(args.preset, args.stitch)
-        yarn, knit = fabric.yarn, fabric.knit
-    else:
-        if args.stitch is not None:
-            raise InputError("--stitch needs --preset")
-        missing = [
-            flag
-            for flag, value in (
-                ("--wale-width", args.wale_width),
-                ("--course-height", args.course_height),
-                ("--yarn-radius", args.yarn_radius),
-                ("--youngs-modulus", args.youngs_modulus if need_material else 1.0),
-            )
-            if value is None
-        ]
-        if missing:
-            raise InputError(f"give --preset, or all of {', '.join(missing)}")
-        yarn = Yarn(minimal_radius=args.yarn_radius, youngs_modulus=args.youngs_modulus or 1.0)
-        knit = Knit(wale_width=args.wale_width, course_height=args.course_height)
-    overrides = {
-        "minimal_radius": args.yarn_radius,
-        "youngs_modulus": args.youngs_modulus,
-        "poissons_ratio": args.poissons_ratio,
-        "friction_coefficient": args.friction,
-    }
-    yarn_fields = {**yarn.__dict__, **{k: v for k, v in overrides.items() if v is not None}}
-    knit_fields = dict(knit.__dict__)
-    for key in ("wale_width", "course_height"):
-        if getattr(args, key) is not None:
-            knit_fields[key] = getattr(args, key)
-    return Fabric(yarn=Yarn(**yarn_fields), knit=Knit(**knit_fields), name=args.preset or "")
-
-
-def to_jsonable(value):
-    """Convert numpy scalars/arrays, dataclass-like dicts and non-finite floats for JSON."""
-    if isinstance(value, dict):
-        return {str(k): to_jsonable(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [to_jsonable(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return to_jsonable(value.tolist())
-    if isinstance(value, np.generic):
-        return to_jsonable(value.item())
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
+    """The fabric named by `add_fabric_arguments` options (`rve_rod.presets.make_fabric`)."""
+    return make_fabric(
+        args.preset,
+        args.stitch,
+        wale_width=args.wale_width,
+        course_height=args.course_height,
+        yarn_radius=args.yarn_radius,
+        youngs_modulus=args.youngs_modulus,
+        poissons_ratio=args.poissons_ratio,
+        friction=args.friction,
+        need_material=need_material,
+    )
 
 
 def print_json(payload: dict) -> None:

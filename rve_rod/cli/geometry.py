@@ -13,6 +13,11 @@ from rve_rod.imaging import knit_from_photo
 from rve_rod.presets import Fabric, Knit, Yarn
 from rve_rod.vtk import write_polylines
 
+__all__ = [
+    "register",
+    "run",
+]
+
 
 def register(subparsers) -> None:
     parser = subparsers.add_parser(

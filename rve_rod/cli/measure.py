@@ -7,6 +7,11 @@ from rve_rod.imaging.image_io import read_image
 from rve_rod.imaging.measure import measure_photo
 from rve_rod.imaging.overlay import plot_overlay
 
+__all__ = [
+    "register",
+    "run",
+]
+
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the `measure` subcommand."""

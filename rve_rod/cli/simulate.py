@@ -20,6 +20,11 @@ from rve_rod.rve.simulation import (
 )
 from rve_rod.rve.yarn import YarnSettings
 
+__all__ = [
+    "register",
+    "run_simulate",
+]
+
 
 def register(subparsers) -> None:
     """Add the `simulate` subcommand."""

@@ -6,11 +6,10 @@ surface and writes it.
 
 import argparse
 import json
-import os
 import sys
 from pathlib import Path
 
-from rve_rod.cache import ResultCache
+from rve_rod.cache import ResultCache, default_runs_dir
 from rve_rod.cli.common import add_fabric_arguments, fabric_from_args, print_json
 from rve_rod.errors import InputError
 from rve_rod.homogenize.fit import FitOptions, FitReport
@@ -19,11 +18,13 @@ from rve_rod.homogenize.sampling import SamplingPlan
 from rve_rod.rve.engine import surface_engine
 from rve_rod.surface import STRESS_GROUPS, ResponseSurface, read_surface, write_surface
 
-
-def default_cache_dir() -> Path:
-    """$XDG_CACHE_HOME/knitmech/rve-runs (or ~/.cache/knitmech/rve-runs)."""
-    root = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
-    return Path(root) / "knitmech" / "rve-runs"
+__all__ = [
+    "describe",
+    "print_report",
+    "register",
+    "run_info",
+    "run_surface",
+]
 
 
 def register(subparsers) -> None:
@@ -51,7 +52,7 @@ def register(subparsers) -> None:
     parser.add_argument(
         "--cache-dir",
         default=None,
-        help=f"where RVE runs are cached (default {default_cache_dir()})",
+        help=f"where RVE runs are cached (default {default_runs_dir()})",
     )
     parser.set_defaults(run=run_surface)
 
@@ -72,7 +73,7 @@ def run_surface(args: argparse.Namespace) -> int:
     if not output.parent.is_dir():
         raise InputError(f"--output {output}: folder {output.parent} does not exist")
     engine = surface_engine()
-    cache = ResultCache(Path(args.cache_dir) if args.cache_dir else default_cache_dir())
+    cache = ResultCache(Path(args.cache_dir) if args.cache_dir else default_runs_dir())
     try:
         generated = generate_surface(
             fabric,

@@ -6,6 +6,11 @@ from rve_rod.cli.common import add_fabric_arguments, fabric_from_args
 from rve_rod.imaging.image_io import write_image
 from rve_rod.imaging.synthetic import SyntheticPhoto, render_photo
 
+__all__ = [
+    "register",
+    "run",
+]
+
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the `synth-photo` subcommand."""

@@ -21,17 +21,12 @@ from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.geometry.loop import loop_geometry
 from rve_rod.homogenize.samples import RveRun
-from rve_rod.newton import (
-    NewtonOptions,
-    NonlinearProblem,
-    SteppingOptions,
-    newton_solve,
-    solve_path,
-)
+from rve_rod.newton import NewtonOptions, NonlinearProblem, newton_solve, solve_path
 from rve_rod.presets import Fabric
 from rve_rod.rve.cell import CellSettings, CellState, LoopCell
 from rve_rod.rve.load_cases import LoadCase
 from rve_rod.rve.yarn import YarnModel, YarnSettings, yarn_model
+from rve_rod.stepping import SteppingOptions
 from rve_rod.stress_measures import green_lagrange, second_piola_kirchhoff, voigt
 from rve_rod.units import n_per_mm_to_gf_per_cm
 

@@ -56,7 +56,7 @@ def test_explicit_parameters_without_material(capsys):
         (["--preset", "wool"], "preset='wool' is unknown"),
         (["--preset", "cotton-20s2", "--stitch", "5.2"], "valid stitch values"),
         (["--wale-width", "1", "--course-height", "0.05", "--yarn-radius", "0.12"], "no loop fits"),
-        (["--wale-width", "1"], "give --preset"),
+        (["--wale-width", "1"], "give a preset"),
         (["--from-photo", "x.png", "--yarn-radius", "0.1"], "--pixels-per-mm"),
     ],
 )

@@ -78,7 +78,7 @@ def test_bad_input_exits_2_with_one_line(case, cotton_photo, tmp_path, capsys):
 
 def test_synth_photo_needs_a_fabric(tmp_path, capsys):
     assert main(["synth-photo", "-o", str(tmp_path / "x.png"), "--wale-width", "1.3"]) == 2
-    assert "give --preset, or all of --course-height, --yarn-radius" in capsys.readouterr().err
+    assert "give a preset, or all of course_height, yarn_radius" in capsys.readouterr().err
 
 
 def test_installed_command_prints_no_traceback(tmp_path):

@@ -10,7 +10,8 @@ import pytest
 import rve_rod.cli.simulate as cli_simulate
 import rve_rod.rve.simulation as rve_simulation
 from rve_rod.cli import main
-from rve_rod.newton import NewtonOptions, SteppingOptions
+from rve_rod.newton import NewtonOptions
+from rve_rod.stepping import SteppingOptions
 
 ARGS = ["simulate", "--wale-width", "1.33", "--course-height", "1.26", "--yarn-radius", "0.16"]
 # 24 control points per quarter loop: at 12-20 this loop's contacts are under-resolved and the

@@ -3,7 +3,14 @@
 import numpy as np
 import pytest
 
-from rve_rod.errors import InputError, check_integer, check_positive, check_range
+from rve_rod.errors import (
+    ConvergenceError,
+    InputError,
+    check_integer,
+    check_positive,
+    check_range,
+    cli_exit_status,
+)
 
 
 @pytest.mark.parametrize("value", [3, 3.0, np.int64(3), np.int32(3), np.float64(3.0)])
@@ -26,3 +33,59 @@ def test_messages_name_parameter_value_and_range():
         check_range("nu", 0.7, 0.0, 0.5)
     with pytest.raises(InputError, match="must be a finite number"):
         check_positive("wale_width", float("nan"), "mm")
+
+
+@pytest.mark.parametrize(
+    ("error", "status", "line"),
+    [
+        (InputError("steps=0 must be >= 1"), 2, "tool run: error: steps=0 must be >= 1\n"),
+        (ConvergenceError("t=0.5 not reached"), 3, "tool run: not converged: t=0.5 not reached\n"),
+        (KeyboardInterrupt(), 130, "tool run: interrupted\n"),
+    ],
+)
+def test_the_exit_status_of_each_outcome_with_one_line(capsys, error, status, line):
+    assert cli_exit_status("tool run", error) == status
+    assert capsys.readouterr().err == line
+    assert cli_exit_status("tool run", error, quiet=True) == status
+    assert capsys.readouterr().err == ""
+
+
+def test_resumable_errors_say_so_and_other_errors_propagate(capsys):
+    resumable = (LookupError,)
+    assert cli_exit_status("tool", KeyError("disk"), resumable=resumable) == 1
+    assert cli_exit_status("tool", KeyboardInterrupt(), resumable=resumable) == 130
+    assert capsys.readouterr().err.splitlines() == [
+        "tool: stopped: 'disk'; run again to resume",
+        "tool: interrupted; run again to resume",
+    ]
+    with pytest.raises(ZeroDivisionError):
+        cli_exit_status("tool", ZeroDivisionError("bug"))
+
+
+def interrupted(*args, **kwargs):
+    raise KeyboardInterrupt
+
+
+@pytest.mark.parametrize("program", ["rve-rod", "knitmech", "fabric-dolfinx"])
+def test_every_command_line_exits_130_on_ctrl_c(monkeypatch, capsys, program):
+    """The three tools share the mapping: an interrupt inside a subcommand gives 130."""
+    if program == "rve-rod":
+        from rve_rod.cli import geometry, main  # noqa: PLC0415
+
+        monkeypatch.setattr(geometry, "loop_geometry", interrupted)
+        argv = ["geometry", "--preset", "cotton-20s2", "--stitch", "5.5"]
+    elif program == "knitmech":
+        from knitmech import cli  # noqa: PLC0415
+
+        main = cli.main
+        monkeypatch.setattr(cli, "run_scene", interrupted)
+        argv = ["run"]
+    else:
+        from fabric_dolfinx import cli  # noqa: PLC0415 (dolfinx)
+
+        main = cli.main
+        monkeypatch.setattr(cli, "TensionSetup", interrupted)
+        argv = ["tension", "--svk", "1,1,0.1,1"]
+    assert main(argv) == 130
+    last = capsys.readouterr().err.strip().splitlines()[-1]
+    assert last.startswith(f"{program} {argv[0]}: interrupted")

@@ -7,9 +7,9 @@ import sys
 
 import numpy as np
 import pytest
+from surface_cases import synthetic_surface
 
 from fabric_dolfinx.cli import main
-from fabric_dolfinx.synthetic import synthetic_surface
 from fabric_dolfinx.tension import TensionSetup
 from rve_rod.surface import write_surface
 from rve_rod.units import GF_PER_CM_PER_N_PER_MM

@@ -3,8 +3,8 @@ stress-free at E = 0."""
 
 import numpy as np
 import pytest
+from surface_cases import COTTON_LIKE_LAW, synthetic_surface
 
-from fabric_dolfinx.synthetic import COTTON_LIKE_LAW, synthetic_surface
 from rve_rod.errors import InputError
 from rve_rod.homogenize.analytic import AnalyticRve
 from rve_rod.units import n_per_mm_to_gf_per_cm

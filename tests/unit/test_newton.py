@@ -7,13 +7,8 @@ import pytest
 import scipy.sparse
 
 from rve_rod.errors import ConvergenceError, InputError
-from rve_rod.newton import (
-    NewtonOptions,
-    NonlinearProblem,
-    SteppingOptions,
-    newton_solve,
-    solve_path,
-)
+from rve_rod.newton import NewtonOptions, NonlinearProblem, newton_solve, solve_path
+from rve_rod.stepping import SteppingOptions
 
 
 def convergence_orders(norms):

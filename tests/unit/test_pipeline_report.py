@@ -1,20 +1,59 @@
 """The summary numbers: forces and Poisson ratios read off the curves at 5, 10, 20 %."""
 
+import json
+
 import numpy as np
 import pytest
 
+from fabric_dolfinx.tension_spec import TensionTest
+from knitmech.records import (
+    GeometrySummary,
+    MesoSummary,
+    PatchJob,
+    PatchSummary,
+    SurfaceSummary,
+)
 from knitmech.report import compare_forces, poisson_ratios, summary_table, value_at
 
 
 def curve(max_strain, steps, force, lateral):
-    """A run record with force(strain) and lateral(strain) sampled at `steps` states."""
+    """An RVE run record with force(strain) and lateral(strain) sampled at `steps` states."""
     strain = np.linspace(0.0, max_strain, steps)
-    return {
-        "strain": strain.tolist(),
-        "force_gf_per_cm": [force(s) for s in strain],
-        "material_uniaxial_gf_per_cm": [0.9 * force(s) for s in strain],
-        "lateral_strain": [lateral(s) for s in strain],
-    }
+    return MesoSummary(
+        case="uniaxial",
+        complete=True,
+        message="",
+        strain=strain,
+        force_gf_per_cm=[force(s) for s in strain],
+        lateral_strain=[lateral(s) for s in strain],
+        poisson_ratio=None,
+        newton_iterations_total=0,
+        wall_time_s=0.0,
+    )
+
+
+def patch(max_strain, steps, force, lateral):
+    """A patch record like `curve`, whose material alone gives 0.9 times its force."""
+    strain = np.linspace(0.0, max_strain, steps)
+    return PatchSummary(
+        direction="course",
+        complete=True,
+        force_positive=True,
+        message="",
+        strain=strain,
+        force_gf_per_cm=[force(s) for s in strain],
+        force_n_per_mm=[force(s) / 1019.7 for s in strain],
+        material_uniaxial_gf_per_cm=[0.9 * force(s) for s in strain],
+        lateral_strain=[lateral(s) for s in strain],
+        poisson_ratio=[np.nan] + [-lateral(s) / s for s in strain[1:]],
+        newton_iterations=[1] * (steps - 1),
+        cutbacks=0,
+        outside_domain=False,
+        dofs=0,
+        ranks=1,
+        solve_time_s=0.0,
+        field_strain=0.1,
+    )
 
 
 def test_values_between_states_are_linear_interpolation_and_none_beyond_the_end():
@@ -31,7 +70,7 @@ def test_forces_and_poisson_ratios_of_meso_and_macro():
         "uniaxial-course": curve(0.2, 21, lambda s: 100 * s, lambda s: -0.1 * s),
         "uniaxial-wale": curve(0.2, 9, lambda s: 400 * s, lambda s: -0.3 * s),
     }
-    macro = {"course": curve(0.2, 5, lambda s: 110 * s, lambda s: -0.2 * s)}
+    macro = {"course": patch(0.2, 5, lambda s: 110 * s, lambda s: -0.2 * s)}
     forces = compare_forces(meso, macro)
     assert forces["course"]["meso_gf_per_cm"] == pytest.approx([5.0, 10.0, 20.0])
     assert forces["course"]["macro_gf_per_cm"] == pytest.approx([5.5, 11.0, 22.0])
@@ -48,7 +87,7 @@ def test_forces_and_poisson_ratios_of_meso_and_macro():
 
 def test_table_shows_every_force_and_missing_values_as_dashes():
     meso = {"uniaxial-course": curve(0.1, 11, lambda s: 100 * s, lambda s: -0.1 * s)}
-    macro = {"course": curve(0.1, 5, lambda s: 120 * s, lambda s: -0.2 * s)}
+    macro = {"course": patch(0.1, 5, lambda s: 120 * s, lambda s: -0.2 * s)}
     summary = {
         "scene": {"name": "test"},
         "fidelity": {"name": "fast"},
@@ -67,3 +106,28 @@ def test_table_shows_every_force_and_missing_values_as_dashes():
     assert twenty[2:] == ["-", "-", "-", "-"]
     macro_row = next(row for row in rows if row.strip().startswith("macro")).split()
     assert macro_row[1:] == ["1", "1", "0", "2.0"]
+
+
+def test_records_survive_their_json_round_trip():
+    """What the stage cache stores (JSON text) reads back to an equal record; NaN is null."""
+    meso = curve(0.2, 5, lambda s: 100 * s, lambda s: -0.1 * s)
+    macro = patch(0.2, 5, lambda s: 110 * s, lambda s: -0.2 * s)
+    surface = SurfaceSummary(
+        kind="stress",
+        domain=np.array([[-0.1, 0.2], [-0.1, 0.2], [-0.3, 0.3]]),
+        residuals={"S11": {"max_abs": 1e-4, "rms_rel": 1e-3}},
+        softest_tangents={"dS11/dE11": {"value": np.float64(0.5), "strain": np.zeros(2)}},
+        runs=25,
+        incomplete_runs=[{"ray": 3}],
+    )
+    job = PatchJob(test=TensionTest(direction="wale", elements=6), steps=5, field_step=2)
+    for record in (meso, macro, surface, job, GeometrySummary({"loop_length": 5.5})):
+        text = json.dumps(record.to_json(), allow_nan=False)
+        assert type(record).from_json(json.loads(text)) == record
+    assert macro.to_json()["poisson_ratio"][0] is None
+    assert "source" not in surface.to_json() and surface.to_json()["runs"] == 25
+    assert job.field_strain == pytest.approx(0.08)
+    assert job.to_json()["test"]["direction"] == "wale"
+    changed = json.loads(json.dumps(macro.to_json()))
+    changed["force_gf_per_cm"][2] += 1e-9
+    assert PatchSummary.from_json(changed) != macro

@@ -8,17 +8,18 @@ import numpy as np
 import pytest
 from rve_cases import CURVES, FABRIC
 
-from rve_rod.cli.common import to_jsonable
 from rve_rod.errors import ConvergenceError
 from rve_rod.homogenize.generate import execute
 from rve_rod.homogenize.samples import RveCase
 from rve_rod.homogenize.sampling import LoadPath, SamplingPlan
-from rve_rod.newton import NewtonOptions, SteppingOptions
+from rve_rod.jsonable import to_jsonable
+from rve_rod.newton import NewtonOptions
 from rve_rod.rve import engine
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import load_case
 from rve_rod.rve.simulation import RveResult, RveSettings, simulate
 from rve_rod.rve.yarn import YarnSettings
+from rve_rod.stepping import SteppingOptions
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
 COARSE = RveSettings(cell=CellSettings(control_points=20), yarn=YarnSettings(friction=False))

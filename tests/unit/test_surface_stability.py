@@ -50,7 +50,7 @@ def test_softest_stiffness_and_where(caplog):
 def test_softening_surface_is_reported_and_warned(caplog):
     with caplog.at_level(logging.WARNING):
         summary = surface_summary(surface(curvature_22=-4.0))
-    entry = summary["softest_tangents"]["dS22/dE22"]
+    entry = summary.softest_tangents["dS22/dE22"]
     assert entry["value"] == pytest.approx(0.2 - 4.0 * 0.3, abs=1e-12)  # at E22 = 0.3
     assert entry["strain"][1] == pytest.approx(0.3)
     assert len(caplog.records) == 1 and "dS22/dE22 = -1 N/mm" in caplog.records[0].message
@@ -60,7 +60,7 @@ def test_round_off_below_zero_is_not_warned(caplog):
     # dS22/dE22 = 0.2 + k E22 with k = 2 + 1e-12: -1e-13 N/mm at E22 = -0.1, 0.8 at 0.3
     with caplog.at_level(logging.WARNING):
         summary = surface_summary(surface(curvature_22=2.0 + 1e-12))
-    entry = summary["softest_tangents"]["dS22/dE22"]
+    entry = summary.softest_tangents["dS22/dE22"]
     assert entry["value"] == pytest.approx(-1e-13, abs=1e-15)
     assert entry["largest"] == pytest.approx(0.8, abs=1e-12)
     assert not caplog.records

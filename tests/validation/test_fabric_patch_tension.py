@@ -8,11 +8,12 @@ import logging
 import numpy as np
 import pytest
 import scipy.optimize
+from surface_cases import synthetic_surface
 
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.synthetic import synthetic_surface
-from fabric_dolfinx.tension import TensionSetup, TensionTest
+from fabric_dolfinx.tension import TensionSetup
+from fabric_dolfinx.tension_spec import TensionTest
 
 SURFACE = synthetic_surface()
 MATERIAL = surface_material(SURFACE)

@@ -78,10 +78,10 @@ def runs(tmp_path_factory):
     outcomes["stopped_in_surface"] = root / "stopped"
     run_patch = knitmech.macro.run_patch
 
-    def stop_at_wale(spec, *args, **kwargs):
-        if spec.direction == "wale":
+    def stop_at_wale(job, *args, **kwargs):
+        if job.test.direction == "wale":
             raise PowerCutError
-        return run_patch(spec, *args, **kwargs)
+        return run_patch(job, *args, **kwargs)
 
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr("knitmech.macro.run_patch", stop_at_wale)

@@ -7,12 +7,12 @@ from dolfinx import fem
 from dolfinx import mesh as dolfinx_mesh
 from mpi4py import MPI
 from petsc4py import PETSc
+from surface_cases import synthetic_surface
 
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.membrane import membrane_forms
 from fabric_dolfinx.mesh import plate_with_hole
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
-from fabric_dolfinx.synthetic import synthetic_surface
 
 MATERIAL = surface_material(synthetic_surface())
 ELEMENT_SIZE = 5.0  # mm, halved by every refinement

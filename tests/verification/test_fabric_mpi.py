@@ -7,8 +7,8 @@ import sys
 
 import numpy as np
 import pytest
+from surface_cases import synthetic_surface
 
-from fabric_dolfinx.synthetic import synthetic_surface
 from rve_rod.surface import write_surface
 
 MPI_ENV = {

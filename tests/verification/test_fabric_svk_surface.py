@@ -7,7 +7,8 @@ import pytest
 
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import TensionSetup, TensionTest, homogeneous_response
+from fabric_dolfinx.tension import TensionSetup, homogeneous_response
+from fabric_dolfinx.tension_spec import TensionTest
 from rve_rod.surface import ResponseSurface, Spline1D, Spline2D
 
 SVK = OrthotropicSVK(

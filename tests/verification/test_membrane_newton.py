@@ -8,13 +8,15 @@ import dolfinx.fem.petsc
 import numpy as np
 import pytest
 from dolfinx import fem
+from surface_cases import COTTON_LIKE_LAW, synthetic_surface
 
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.membrane import membrane_forms
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.synthetic import COTTON_LIKE_LAW, synthetic_surface
-from fabric_dolfinx.tension import TensionSetup, TensionTest
+from fabric_dolfinx.tension import TensionSetup
+from fabric_dolfinx.tension_spec import TensionTest
 from rve_rod.errors import ConvergenceError
+from rve_rod.stepping import SteppingOptions
 from rve_rod.surface import ResponseSurface
 
 # A stress fit need not derive from a potential: take S22 from a law with another coupling,
@@ -98,8 +100,12 @@ def test_krylov_solvers_with_amg_match_lu(linear_solver):
 
 def test_failed_steps_are_cut_back_and_the_error_keeps_the_converged_steps(tmp_path):
     """Beyond half of the path the clamp displacement is NaN: Newton fails, the step halves
-    down to min_step, and ConvergenceError carries the converged steps; XDMF stays valid."""
-    options = SolverOptions(steps=4, min_step=1.0 / 16)
+    down to min_increment, and ConvergenceError carries the converged steps; XDMF stays
+    valid."""
+    stepping = SteppingOptions(
+        initial_increment=0.25, max_increment=0.25, min_increment=1.0 / 16, extrapolate=False
+    )
+    options = SolverOptions(steps=4, stepping=stepping)
     setup = TensionSetup(STRESS, TensionTest(max_strain=0.1), options)
     apply_load = setup.apply_load
     setup.apply_load = lambda t: apply_load(t if t <= 0.5 else np.nan)
@@ -117,3 +123,15 @@ def test_failed_steps_are_cut_back_and_the_error_keeps_the_converged_steps(tmp_p
     times = [float(value) for value in re.findall(r'<Time Value="([^"]+)"', text)]
     # displacement, strain and stress at the unloaded state and the two converged steps
     np.testing.assert_allclose(sorted(times), np.repeat([0.0, 0.025, 0.05], 3))
+
+
+def test_extrapolated_start_saves_iterations_and_keeps_the_forces():
+    """The shared stepping's linear predictor, on the membrane: same equilibria (to the
+    Newton tolerance), fewer iterations than starting each step from the last state."""
+    test = TensionTest(max_strain=0.3, angle=30.0)
+    plain = TensionSetup(STRESS, test, SolverOptions(steps=6)).run()
+    predicting = SteppingOptions(initial_increment=1 / 6, max_increment=1 / 6, extrapolate=True)
+    predicted = TensionSetup(STRESS, test, SolverOptions(steps=6, stepping=predicting)).run()
+    np.testing.assert_allclose(predicted.strain, plain.strain, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(predicted.force_n_per_mm, plain.force_n_per_mm, rtol=1e-8)
+    assert predicted.newton_iterations.sum() < plain.newton_iterations.sum()

@@ -8,13 +8,14 @@ import pytest
 import ufl
 from dolfinx import fem
 from mpi4py import MPI
+from surface_cases import synthetic_surface
 
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.membrane import membrane_forms, membrane_stress
 from fabric_dolfinx.mesh import plate_with_hole, rectangle_patch
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
-from fabric_dolfinx.synthetic import synthetic_surface
-from fabric_dolfinx.tension import TensionSetup, TensionTest
+from fabric_dolfinx.tension import TensionSetup
+from fabric_dolfinx.tension_spec import TensionTest
 
 SURFACE = synthetic_surface()
 MATERIAL = surface_material(SURFACE)

@@ -10,7 +10,7 @@ from rod_cases import arc, straight
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from rve_rod.newton import NewtonOptions, SteppingOptions, newton_solve, solve_path
+from rve_rod.newton import NewtonOptions, newton_solve, solve_path
 from rve_rod.rod import (
     END,
     START,
@@ -23,6 +23,7 @@ from rve_rod.rod import (
     RodPatch,
     SectionStiffness,
 )
+from rve_rod.stepping import SteppingOptions
 
 LENGTH = 10.0
 OUT_OF_PLANE = np.array([0.0, 0.0, 1.0])  # d1 = z: bending in the xy-plane is about d1

@@ -1,11 +1,13 @@
-"""A synthetic response surface: the analytic membrane law as B-splines, until RVE surfaces exist.
+"""Test fixture: a synthetic response surface, the analytic membrane law as B-splines.
 
 Knitted fabrics stiffen sharply in tension (yarns straighten and jam) and barely resist
 compression (loops buckle). The closed-form law of `rve_rod.homogenize.analytic.AnalyticRve`
 has that shape; `synthetic_surface` interpolates it by B-splines at the Greville points and
 returns an `rve_rod.surface.ResponseSurface` of kind `stress` (the three stress splines) or
 `energy` (the two potentials); `write_surface` stores it. `COTTON_LIKE_LAW` is the parameter
-set the membrane's tests, demos and benchmarks use.
+set the membrane's tests and benchmarks use (`benchmarks/bench_membrane.py` imports this file
+from tests/). It lives with the tests: it reads `rve_rod` beyond the surface file, which the
+library `fabric_dolfinx` must not.
 """
 
 import math
