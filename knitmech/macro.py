@@ -27,12 +27,11 @@ from fabric_dolfinx.tension import (
     DIRECTIONS,
     TensionSetup,
     TensionTest,
-    homogeneous_response,
 )
 from knitmech.stages import PatchSpec
 from rve_rod.cli.common import to_jsonable
 from rve_rod.errors import ConvergenceError, InputError
-from rve_rod.surface import read_surface
+from rve_rod.surface import homogeneous_response, read_surface
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
 logger = logging.getLogger(__name__)
