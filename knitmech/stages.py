@@ -32,9 +32,9 @@ from rve_rod.homogenize.sampling import SamplingPlan
 from rve_rod.presets import Fabric
 from rve_rod.rve import RodRve, RveSettings, load_case, simulate
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.output import write_vtk
 from rve_rod.rve.yarn import YarnSettings
 from rve_rod.surface import read_surface, softest_normal_tangents, write_surface
+from rve_rod.vtk import write_vtk
 
 logger = logging.getLogger(__name__)
 

@@ -5,9 +5,9 @@ continuum two-pass model predicts."""
 import numpy as np
 import pytest
 import scipy.integrate
+from contact_scenes import crossed_rods
 
 from rve_rod.contact import CompressibleYarnLaw, ContactModel, Patch, YarnChain
-from rve_rod.contact.scenes import crossed_rods
 from rve_rod.geometry.bspline import greville_abscissae, interpolate, open_knot_vector
 
 RADIUS = 0.15
