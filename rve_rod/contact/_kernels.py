@@ -4,6 +4,8 @@ Arrays are components first, batch last. Each kernel writes into preallocated ou
 checked against a plain NumPy/SciPy reference in tests/unit/test_contact_kernels.py.
 """
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
 
@@ -239,72 +241,107 @@ def block_entries(blocks, slave, n_points, first, basis, rows, columns, values):
     return count
 
 
-@njit(cache=True)
-def contact_loads(  # noqa: PLR0917
-    gap_vector, tangent, metric, slip_vector, anchored, law, friction, load, force, blocks, state
-):
-    """Line loads of k contacts (compressible-yarn law, Coulomb friction) and their derivatives.
+class ContactGeometry(NamedTuple):
+    """Closest-point geometry of k contacts as `contact_loads` takes it (contacts last).
 
-    Per contact: v = x_s - x_m, d = |v|, n = v/d, g = 2r - d, f_n = k (r/p) (g/r)^p and
-    f_n' = k (g/r)^(p-1) for g > 0. Normal load f_n n with derivative blocks
+    Attributes:
+        gap_vector: (3, k) v = x_s - x_m (mm).
+        tangent: (3, k) C' = dC/dtau at the closest point (mm).
+        metric: (k,) H = C'.C' - C''.v (mm^2).
+        slip_vector: (3, k) w = x_s - x_a - o relative to the stick anchor (mm).
+        anchored: (k,) True where the contact has an anchor (friction applies).
+    """
+
+    gap_vector: np.ndarray
+    tangent: np.ndarray
+    metric: np.ndarray
+    slip_vector: np.ndarray
+    anchored: np.ndarray
+
+
+class LoadOutput(NamedTuple):
+    """Preallocated outputs of `contact_loads` for k contacts.
+
+    Attributes:
+        load: (3, k) line load (N/mm).
+        blocks: (4, 3, 3, k) derivatives of the load w.r.t. x_s, x_m, C' and the anchor point
+            x_a (N/mm^2).
+        state: (k,) int8: 0 no friction, 1 stick, 2 slip.
+    """
+
+    load: np.ndarray
+    blocks: np.ndarray
+    state: np.ndarray
+
+
+class _Contact(NamedTuple):
+    """One contact inside `contact_loads`: n, C', v (3,), d, H, f_n, f_n' and P = I - n n^T."""
+
+    normal: np.ndarray
+    tangent: np.ndarray
+    gap_vector: np.ndarray
+    distance: float
+    metric: float
+    force: float
+    slope: float
+    projector: np.ndarray
+
+
+@njit(cache=True)
+def contact_loads(geometry, normal_law, friction, out):
+    """Line loads of k contacts (a normal law, Coulomb friction) and their derivatives.
+
+    Per contact: v = x_s - x_m, d = |v|, n = v/d; the normal line load f_n and its slope
+    f_n' = df_n/dg on the penetration g = 2r - d come from the law (`rve_rod.contact.law`).
+    Normal load f_n n with derivative blocks
     K (dx_s - dx_m) - (f_n/H) C' n^T dC', K = -f_n' n n^T + (f_n/d) P - f_n/(d H) C' C'^T,
     P = I - n n^T. Friction on anchored contacts: slip g_T = P w, trial -k_t g_T, stick or
     slip to mu f_n (return mapping) with dg_T = P dw + G dv, G = -[(n.w) P + n g_T^T]/d,
     dv = Q (dx_s - dx_m) - C' v.dC'/H, Q = I - C' C'^T/H (docs/contact.md).
 
     Args:
-        gap_vector: (3, k) v (mm).
-        tangent: (3, k) C' = dC/dtau at the closest point (mm).
-        metric: (k,) H = C'.C' - C''.v (mm^2).
-        slip_vector: (3, k) w = x_s - x_a - o relative to the stick anchor (mm).
-        anchored: (k,) True where the contact has an anchor (friction applies).
-        law: (3,) stiffness k (MPa), exponent p, yarn radius r (mm).
+        geometry: `ContactGeometry` of the k contacts.
+        normal_law: (2, k) f_n (N/mm) and f_n' (N/mm^2) of each contact.
         friction: (2,) coefficient mu and tangential stiffness k_t (MPa); mu = 0: none.
-        load: (3, k) output line load (N/mm).
-        force: (k,) output normal line load f_n (N/mm).
-        blocks: (4, 3, 3, k) output derivatives of the load w.r.t. x_s, x_m, C' and the
-            anchor point x_a.
-        state: (k,) int8 output: 0 no friction, 1 stick, 2 slip.
+        out: `LoadOutput` buffers, overwritten.
     """
-    stiffness, exponent, radius = law[0], law[1], law[2]
-    mu, k_t = friction[0], friction[1]
+    mu = friction[0]
+    gap_vector, tangent = geometry.gap_vector, geometry.tangent
     n = np.empty(3)
     t = np.empty(3)
     v = np.empty(3)
     projector = np.empty((3, 3))
-    for c in range(metric.size):
+    for c in range(geometry.metric.size):
         d = np.sqrt(gap_vector[0, c] ** 2 + gap_vector[1, c] ** 2 + gap_vector[2, c] ** 2)
         for i in range(3):
             v[i] = gap_vector[i, c]
             n[i] = v[i] / d
             t[i] = tangent[i, c]
-        h = metric[c]
-        g = 2.0 * radius - d
-        f = 0.0
-        slope = 0.0
-        if g > 0.0:
-            f = stiffness * (radius / exponent) * (g / radius) ** exponent
-            slope = stiffness * (g / radius) ** (exponent - 1.0)
-        force[c] = f
+        h = geometry.metric[c]
+        f = normal_law[0, c]
+        slope = normal_law[1, c]
         for i in range(3):
-            load[i, c] = f * n[i]
+            out.load[i, c] = f * n[i]
             for j in range(3):
                 projector[i, j] = (1.0 if i == j else 0.0) - n[i] * n[j]
                 k_ij = -slope * n[i] * n[j] + f / d * projector[i, j] - f / (d * h) * t[i] * t[j]
-                blocks[0, i, j, c] = k_ij
-                blocks[1, i, j, c] = -k_ij
-                blocks[2, i, j, c] = -f / h * t[i] * n[j]
-                blocks[3, i, j, c] = 0.0
-        state[c] = 0
-        if mu > 0.0 and anchored[c]:
-            _friction(
-                c, n, t, v, d, h, f, slope, slip_vector, mu, k_t, projector, load, blocks, state
-            )
+                out.blocks[0, i, j, c] = k_ij
+                out.blocks[1, i, j, c] = -k_ij
+                out.blocks[2, i, j, c] = -f / h * t[i] * n[j]
+                out.blocks[3, i, j, c] = 0.0
+        out.state[c] = 0
+        if mu > 0.0 and geometry.anchored[c]:
+            contact = _Contact(n, t, v, d, h, f, slope, projector)
+            _friction(c, contact, geometry.slip_vector, friction, out)
 
 
 @njit(cache=True)
-def _friction(c, n, t, v, d, h, f, slope, slip_vector, mu, k_t, projector, load, blocks, state):  # noqa: PLR0917
+def _friction(c, contact, slip_vector, friction, out):
     """Return mapping of contact c; adds its load and derivative blocks (see contact_loads)."""
+    n, t, v = contact.normal, contact.tangent, contact.gap_vector
+    d, h, f, slope = contact.distance, contact.metric, contact.force, contact.slope
+    projector = contact.projector
+    mu, k_t = friction[0], friction[1]
     w = slip_vector[:, c]
     normal_part = n[0] * w[0] + n[1] * w[1] + n[2] * w[2]
     slip = np.empty(3)
@@ -340,17 +377,17 @@ def _friction(c, n, t, v, d, h, f, slope, slip_vector, mu, k_t, projector, load,
     t_master = factor @ d_master
     t_anchor = -(factor @ projector)
     for i in range(3):
-        load[i, c] += scale * trial[i]
+        out.load[i, c] += scale * trial[i]
         for j in range(3):
             normal_term = -mu * slope * direction[i] * n[j] if sliding else 0.0
-            blocks[0, i, j, c] += t_slave[i, j] + normal_term
-            blocks[1, i, j, c] += t_master[i, j] - normal_term
-            blocks[3, i, j, c] = t_anchor[i, j]
+            out.blocks[0, i, j, c] += t_slave[i, j] + normal_term
+            out.blocks[1, i, j, c] += t_master[i, j] - normal_term
+            out.blocks[3, i, j, c] = t_anchor[i, j]
     for i in range(3):
         for j in range(3):
             # d/dC': -T G C' v^T / H
             value = 0.0
             for a in range(3):
                 value += factor[i, a] * g_tangent[a]
-            blocks[2, i, j, c] -= value * v[j] / h
-    state[c] = 2 if sliding else 1
+            out.blocks[2, i, j, c] -= value * v[j] / h
+    out.state[c] = 2 if sliding else 1

@@ -11,6 +11,10 @@ so the exponent softens as the yarn radius r is squeezed below its measured radi
 is used only with p >= 1 (`MINIMUM_EXPONENT`): below p = 1 the slope df_n/dg is infinite at
 first touch (no Newton tangent exists there), and as p -> 0 (r0/r -> 3^(1/3) = 1.442) the force
 k r/p at any penetration becomes unbounded. p = 1 is the linear penalty f_n = k g.
+
+`CompressibleYarnLaw.line_load` and `line_stiffness` are the code a run evaluates: the contact
+model computes them on the penetrations of the active contacts and hands the values to the
+load kernel (`rve_rod.contact.forces.contact_loads`), which has no formula of its own.
 """
 
 from dataclasses import dataclass
