@@ -69,18 +69,18 @@ def _span_geometry(coefficients, span, tau, out):
 
 
 @njit(cache=True)
-def _start_slope(coefficients, span, x0, x1, x2):
-    """Slope C'.(C - x) of the squared distance from x at the start (tau = 0) of a span."""
+def _start_slope(coefficients, span, target):
+    """Slope C'.(C - x) of the squared distance from x (3,) at the start (tau = 0) of a span."""
     return (
-        coefficients[0, 1, span] * (coefficients[0, 0, span] - x0)
-        + coefficients[1, 1, span] * (coefficients[1, 0, span] - x1)
-        + coefficients[2, 1, span] * (coefficients[2, 0, span] - x2)
+        coefficients[0, 1, span] * (coefficients[0, 0, span] - target[0])
+        + coefficients[1, 1, span] * (coefficients[1, 0, span] - target[1])
+        + coefficients[2, 1, span] * (coefficients[2, 0, span] - target[2])
     )
 
 
 @njit(cache=True)
-def _end_slope(coefficients, span, x0, x1, x2):
-    """Slope C'.(C - x) of the squared distance from x at the end (tau = 1) of a span."""
+def _end_slope(coefficients, span, target):
+    """Slope C'.(C - x) of the squared distance from x (3,) at the end (tau = 1) of a span."""
     slope = 0.0
     for c in range(3):
         value = 0.0
@@ -88,14 +88,40 @@ def _end_slope(coefficients, span, x0, x1, x2):
         for k in range(coefficients.shape[1]):
             value += coefficients[c, k, span]
             derivative += k * coefficients[c, k, span]
-        slope += derivative * (value - (x0 if c == 0 else x1 if c == 1 else x2))
+        slope += derivative * (value - target[c])
     return slope
 
 
+class SpanGroups(NamedTuple):
+    """The spans of all patches as the projection kernel takes them.
+
+    Attributes:
+        coefficients: (3, p+1, S) power-basis coefficients of the spans.
+        group_spans: (2, B) first span and number of spans of each group.
+        span_next: (S,) next span of the same patch, -1 for a patch's last span.
+        closed_end: (S,) True for spans that own their end point (end of an open yarn).
+    """
+
+    coefficients: np.ndarray
+    group_spans: np.ndarray
+    span_next: np.ndarray
+    closed_end: np.ndarray
+
+
+class Minima(NamedTuple):
+    """Preallocated outputs of `project_on_groups` (capacity minima).
+
+    Attributes:
+        index: (2, capacity) int64: target and span of each minimum found.
+        values: (10, capacity): tau, then C, dC/dtau, d2C/dtau2 (3 each) at tau.
+    """
+
+    index: np.ndarray
+    values: np.ndarray
+
+
 @njit(cache=True)
-def project_on_groups(  # noqa: PLR0917 (numba kernels take their arrays positionally)
-    coefficients, group_spans, span_next, closed_end, groups, targets, tolerance, out_index, out
-):
+def project_on_groups(spans, groups, targets, tolerance, out):
     """Closest points of targets on groups of spans: every local minimum of distance.
 
     The squared distance f(tau) = |C(tau) - x|^2 / 2 has slope g = C'.(C - x). A span owns a
@@ -106,73 +132,60 @@ def project_on_groups(  # noqa: PLR0917 (numba kernels take their arrays positio
     it always converges, quadratically near the root).
 
     Args:
-        coefficients: (3, p+1, S) power-basis coefficients of the spans.
-        group_spans: (2, B) first span and number of spans of each group.
-        span_next: (S,) next span of the same patch, -1 for a patch's last span.
-        closed_end: (S,) True for spans that own their end point (end of an open yarn).
+        spans: `SpanGroups`.
         groups: (k,) group of each target.
         targets: (3, k) points to project (slave point minus the image translation).
         tolerance: convergence tolerance on tau (the iteration limit follows from it).
-        out_index: (2, capacity) int64 output: target and span of each minimum found.
-        out: (10, capacity) output: tau, then C, dC/dtau, d2C/dtau2 (3 each) at tau.
+        out: `Minima` buffers.
 
     Returns the number of minima found; only the first `capacity` are written.
     """
+    coefficients, group_spans = spans.coefficients, spans.group_spans
     local = np.empty((3, 3))
-    capacity = out.shape[1]
-    max_iterations = 2 * int(np.log2(1.0 / tolerance)) + 10
+    capacity = out.values.shape[1]
     count = 0
     for c in range(groups.size):
-        x0 = targets[0, c]
-        x1 = targets[1, c]
-        x2 = targets[2, c]
+        target = targets[:, c]
         first = group_spans[0, groups[c]]
-        slope_low = _start_slope(coefficients, first, x0, x1, x2)
+        slope_low = _start_slope(coefficients, first, target)
         for s in range(first, first + group_spans[1, groups[c]]):
-            following = span_next[s]
+            following = spans.span_next[s]
             if following >= 0:
-                slope_high = _start_slope(coefficients, following, x0, x1, x2)
+                slope_high = _start_slope(coefficients, following, target)
             else:
-                slope_high = _end_slope(coefficients, s, x0, x1, x2)
-            owned = slope_low <= 0.0 and (slope_high > 0.0 or (closed_end[s] and slope_high >= 0.0))
+                slope_high = _end_slope(coefficients, s, target)
+            owned = slope_low <= 0.0 and (
+                slope_high > 0.0 or (spans.closed_end[s] and slope_high >= 0.0)
+            )
             if owned:
-                t = _safeguarded_newton(
-                    coefficients,
-                    s,
-                    x0,
-                    x1,
-                    x2,
-                    slope_low,
-                    slope_high,
-                    tolerance,
-                    max_iterations,
-                    local,
-                )
+                t = _safeguarded_newton(coefficients, s, target, (slope_low, slope_high), tolerance)
                 if count < capacity:
-                    out_index[0, count] = c
-                    out_index[1, count] = s
-                    out[0, count] = t
+                    _span_geometry(coefficients, s, t, local)
+                    out.index[0, count] = c
+                    out.index[1, count] = s
+                    out.values[0, count] = t
                     for row in range(3):
                         for col in range(3):
-                            out[1 + 3 * row + col, count] = local[row, col]
+                            out.values[1 + 3 * row + col, count] = local[row, col]
                 count += 1
             slope_low = slope_high
     return count
 
 
 @njit(cache=True)
-def _safeguarded_newton(  # noqa: PLR0917
-    coefficients, span, x0, x1, x2, slope_low, slope_high, tolerance, max_iterations, local
-):
-    """Root of the slope in [0, 1] given its signs at the ends; leaves geometry in local."""
+def _safeguarded_newton(coefficients, span, target, bracket, tolerance):
+    """Root of the slope in [0, 1] given its signs (slope_low, slope_high) at the ends."""
+    local = np.empty((3, 3))
+    max_iterations = 2 * int(np.log2(1.0 / tolerance)) + 10
+    slope_low, slope_high = bracket
     low = 0.0
     high = 1.0
     t = 0.0 if slope_low == slope_high else slope_low / (slope_low - slope_high)
     for _ in range(max_iterations):
         _span_geometry(coefficients, span, t, local)
-        d0 = local[0, 0] - x0
-        d1 = local[0, 1] - x1
-        d2 = local[0, 2] - x2
+        d0 = local[0, 0] - target[0]
+        d1 = local[0, 1] - target[1]
+        d2 = local[0, 2] - target[2]
         slope = local[1, 0] * d0 + local[1, 1] * d1 + local[1, 2] * d2
         curvature = (
             local[1, 0] ** 2
@@ -193,7 +206,6 @@ def _safeguarded_newton(  # noqa: PLR0917
         t = step
         if done:
             break
-    _span_geometry(coefficients, span, t, local)
     return t
 
 

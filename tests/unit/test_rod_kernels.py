@@ -30,9 +30,11 @@ def random_point_data(seed, m=7):
 
 def kernel_equations(kinematics, reference, stiffness, with_jacobian=True):
     m = kinematics.shape[1]
-    out = (np.empty((7, m)), np.empty((6, m)), np.zeros((7, 18, m)), np.zeros((6, 18, m)))
-    _kernels.collocation_equations(kinematics, reference, stiffness, with_jacobian, *out)
-    return out
+    out = _kernels.PointEquations(
+        kinematics, np.empty((7, m)), np.empty((6, m)), np.zeros((7, 18, m)), np.zeros((6, 18, m))
+    )
+    _kernels.collocation_equations(out, reference, stiffness, with_jacobian)
+    return out[1:]
 
 
 @pytest.mark.parametrize("seed", range(6))
