@@ -11,6 +11,29 @@ from numba import njit
 
 
 @njit(cache=True)
+def compressible_yarn_law(penetration, parameters, out):
+    """The compressible-yarn law (`rve_rod.contact.law`, Weeger et al.) at k penetrations.
+
+    f_n(g) = k (r/p) (g/r)^p and f_n'(g) = k (g/r)^(p-1) for g > 0, both 0 for g <= 0.
+
+    Args:
+        penetration: (k,) g = 2r - d (mm).
+        parameters: (3,) stiffness k (MPa), exponent p (-), yarn radius r (mm).
+        out: (2, k) output: f_n (N/mm) and f_n' (N/mm^2).
+    """
+    stiffness, exponent, radius = parameters[0], parameters[1], parameters[2]
+    for c in range(penetration.size):
+        g = penetration[c]
+        f = 0.0
+        slope = 0.0
+        if g > 0.0:
+            f = stiffness * (radius / exponent) * (g / radius) ** exponent
+            slope = stiffness * (g / radius) ** (exponent - 1.0)
+        out[0, c] = f
+        out[1, c] = slope
+
+
+@njit(cache=True)
 def box_overlaps(slave_boxes, master_boxes, order, out_slave, out_master):
     """All pairs of overlapping axis-aligned boxes (closed intervals) by a sweep along x.
 

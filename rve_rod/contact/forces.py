@@ -9,12 +9,12 @@ stationarity C'.v = 0 gives the parameter sensitivity
     dtau = [v.dC' + C'.(dx_s - dx_m)] / H,   dv = Q (dx_s - dx_m) - C' v.dC' / H,
     Q = I - C' C'^T / H,   dd = n.(dx_s - dx_m),   dn = (I - n n^T) dv / d.
 
-The normal line load f_n(g) and its slope come from the law's own functions
-(`CompressibleYarnLaw.line_load`, `line_stiffness`), evaluated here on the penetrations; the
-kernel takes them as arrays. Each load derivative is returned as 3x3 blocks with respect to
-x_s, x_m (at fixed tau), C'(tau) (at fixed tau) and the friction anchor x_a
-(`_kernels.contact_loads`); the caller chains them with the basis functions of the control
-points (and with F through x_m, x_a).
+The normal line load f_n(g) and its slope come from the law
+(`CompressibleYarnLaw.load_and_slope`), evaluated here on the penetrations; the kernel takes
+them as arrays. Each load derivative is returned as 3x3 blocks with respect to x_s, x_m (at
+fixed tau), C'(tau) (at fixed tau) and the friction anchor x_a (`_kernels.contact_loads`); the
+caller chains them with the basis functions of the control points (and with F through x_m,
+x_a).
 """
 
 from typing import NamedTuple
@@ -99,7 +99,7 @@ def contact_loads(
     """
     k = state.distance.size
     penetration = 2.0 * law.yarn_radius - state.distance
-    normal_law = np.stack([law.line_load(penetration), law.line_stiffness(penetration)])
+    normal_law = law.load_and_slope(penetration)
     coefficients = (
         (0.0, 1.0) if friction is None else (friction.coefficient, friction.tangential_stiffness)
     )

@@ -8,6 +8,7 @@ import scipy.integrate
 from contact_scenes import crossed_rods
 
 from rve_rod.contact import CompressibleYarnLaw, ContactModel, Patch, YarnChain
+from rve_rod.contact import _kernels as contact_kernels
 from rve_rod.geometry.bspline import greville_abscissae, interpolate, open_knot_vector
 
 RADIUS = 0.15
@@ -150,16 +151,17 @@ def test_the_law_object_sets_the_force_of_a_run(stiffness, exponent):
     assert lift_stiffness == pytest.approx(-slope, rel=1e-10)
 
 
-def test_a_run_evaluates_the_law_of_law_py(monkeypatch):
-    # Substitute the law's functions by a linear penalty f_n = 7 g (N/mm): the run follows, so
-    # the law a run uses is the code in rve_rod/contact/law.py and not a copy of it.
+def test_a_run_evaluates_the_one_law_function(monkeypatch):
+    # Substitute the law's one function (law.py's CompressibleYarnLaw.load_and_slope calls it)
+    # by a linear penalty f_n = 7 g (N/mm): the run follows, so no copy of the formula runs.
+    def linear_penalty(penetration, parameters, out):
+        out[0] = 7.0 * np.maximum(penetration, 0.0)
+        out[1] = np.where(penetration > 0.0, 7.0, 0.0)
+
     penetration = 0.03
     law = CompressibleYarnLaw(stiffness=5.0, exponent=2.4, yarn_radius=RADIUS)
     original, _ = crossing_point_load(law, penetration)
-    monkeypatch.setattr(CompressibleYarnLaw, "line_load", lambda self, g: 7.0 * np.maximum(g, 0))
-    monkeypatch.setattr(
-        CompressibleYarnLaw, "line_stiffness", lambda self, g: np.where(g > 0, 7.0, 0.0)
-    )
+    monkeypatch.setattr(contact_kernels, "compressible_yarn_law", linear_penalty)
     load, lift_stiffness = crossing_point_load(law, penetration)
     assert abs(original[2] - 7.0 * penetration) > 0.1 * original[2]
     np.testing.assert_allclose(load, [0.0, 0.0, 7.0 * penetration], rtol=1e-12, atol=1e-15)
