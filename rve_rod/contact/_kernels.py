@@ -232,23 +232,53 @@ def _safeguarded_newton(coefficients, span, target, bracket, tolerance):
     return t
 
 
+class SpanChain(NamedTuple):
+    """How the derivative blocks of k loads chain to the control points of their spans.
+
+    Attributes:
+        first: (3, k) int64 first control point of the slave span, the master span and the
+            anchor span (-1: no anchor) of each load.
+        basis: (4, p+1, k) the values chaining each block to the span's control points:
+            N_a(slave tau), N_b(master tau), dN_b/dtau(master tau), N_c(anchor tau).
+    """
+
+    first: np.ndarray
+    basis: np.ndarray
+
+
+class CooEntries(NamedTuple):
+    """Preallocated COO outputs of `block_entries`: (capacity,) rows, columns (int64), values."""
+
+    rows: np.ndarray
+    columns: np.ndarray
+    values: np.ndarray
+
+    @classmethod
+    def empty(cls, capacity: int) -> "CooEntries":
+        """Buffers for `capacity` entries."""
+        return cls(
+            np.empty(capacity, dtype=np.int64),
+            np.empty(capacity, dtype=np.int64),
+            np.empty(capacity),
+        )
+
+
 @njit(cache=True)
-def block_entries(blocks, slave, n_points, first, basis, rows, columns, values):  # noqa: PLR0917
+def block_entries(blocks, slave, n_points, chain, out):
     """COO entries of the contact-load derivative with respect to the control points.
 
     Args:
         blocks: (4, 3, 3, k) derivative blocks of each load w.r.t. x_s, x_m, C' and x_a.
-        slave: (k,) collocation point of each load; n_points: number of collocation points
-            m (component i of point j is row i m + j).
-        first: (3, k) first control point of the slave span, the master span and the anchor
-            span (-1: no anchor) of each load.
-        basis: (4, p+1, k) the values chaining each block to the span's control points:
-            N_a(slave tau), N_b(master tau), dN_b/dtau(master tau), N_c(anchor tau).
-        rows, columns, values: (capacity,) outputs, capacity >= 9 * 3 (p+1) k.
+        slave: (k,) collocation point of each load.
+        n_points: number of collocation points m (component i of point j is row i m + j).
+        chain: `SpanChain` of the k loads.
+        out: `CooEntries`, capacity >= 9 * 3 (p+1) k.
 
     Block b of span control point a goes to columns 3 (first + a) + j; the master span takes
     blocks 1 and 2 together. Returns the number of entries written.
     """
+    first, basis = chain.first, chain.basis
+    rows, columns, values = out.rows, out.columns, out.values
     n_basis = basis.shape[1]
     count = 0
     for c in range(slave.size):

@@ -140,9 +140,10 @@ def test_block_entries_match_a_dense_numpy_assembly(contacts):
     first = rng.integers(0, n_control - degree, size=(3, contacts))
     first[2, ::3] = -1  # some contacts without friction anchor
     basis = rng.normal(size=(4, degree + 1, contacts))
-    size = 9 * 3 * (degree + 1) * contacts
-    rows, columns, values = (np.empty(size, np.int64), np.empty(size, np.int64), np.empty(size))
-    count = _kernels.block_entries(blocks, slave, n_points, first, basis, rows, columns, values)
+    out = _kernels.CooEntries.empty(9 * 3 * (degree + 1) * contacts)
+    chain = _kernels.SpanChain(first, basis)
+    count = _kernels.block_entries(blocks, slave, n_points, chain, out)
+    rows, columns, values = out
     assembled = np.zeros((3 * n_points, 3 * n_control))
     np.add.at(assembled, (rows[:count], columns[:count]), values[:count])
 
