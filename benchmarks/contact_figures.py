@@ -10,6 +10,8 @@ weighted sum of the normal line loads for reference.
 """
 
 import argparse
+import sys
+from pathlib import Path
 
 import matplotlib
 
@@ -18,15 +20,18 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from rve_rod.contact import CompressibleYarnLaw, ContactModel, CoulombFriction
-from rve_rod.contact.scenes import crossed_rods
+from rve_rod.geometry.loop import adjusted_radius
 from rve_rod.presets import load_preset, stitch_values
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from contact_scenes import crossed_rods  # the tests' scenes
 
 
 def law_panel(axis):
     for stitch in stitch_values("cotton-20s2"):
         fabric = load_preset("cotton-20s2", stitch)
         r0 = fabric.yarn.minimal_radius
-        r = min(r0, fabric.knit.wale_width / 8)
+        r = adjusted_radius(r0, fabric.knit.wale_width)
         law = CompressibleYarnLaw.from_yarn(r0, r, fabric.yarn.youngs_modulus)
         gaps = np.linspace(0, 0.3 * r, 200)
         axis.plot(gaps / r, law.line_load(gaps), label=f"stitch {stitch}: p = {law.exponent:.2f}")

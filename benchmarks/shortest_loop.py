@@ -26,12 +26,11 @@ import scipy.optimize
 from matplotlib.figure import Figure
 
 from rve_rod.geometry.bspline import BSplineCurve, basis_matrix, open_knot_vector
-from rve_rod.geometry.loop import (
-    ADJACENT_ARC_FACTOR,
+from rve_rod.geometry.loop import ADJACENT_ARC_FACTOR, loop_geometry
+from rve_rod.geometry.loop_spline import (
     CONTROL_POINTS,
     DEGREE,
     condition_rows,
-    loop_geometry,
     mirrored_loop,
     symmetry_conditions,
 )

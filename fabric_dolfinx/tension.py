@@ -14,7 +14,6 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
-import scipy.optimize
 from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
@@ -32,14 +31,12 @@ from fabric_dolfinx.solve import (
     boundary_indicator,
 )
 from fabric_dolfinx.tension_spec import DIRECTIONS, TensionTest
-from rve_rod.errors import ConvergenceError, InputError
-from rve_rod.surface import ResponseSurface
+from rve_rod.errors import ConvergenceError
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
 __all__ = [
     "TensionResult",
     "TensionSetup",
-    "homogeneous_response",
 ]
 
 
@@ -208,63 +205,3 @@ class TensionSetup:
             outside_domain=outside,
             path=path,
         )
-
-
-def homogeneous_response(
-    surface: ResponseSurface, strain: np.ndarray, direction: str, lateral: str = "free"
-) -> np.ndarray:
-    """Force per width (N/mm) of the material alone under homogeneous tension.
-
-    F = 1 + strain along the load; across it the stretch is free with zero stress
-    ("free": uniaxial tension, as the RVE's uniaxial load case) or held at 1 ("fixed":
-    strip-biaxial). The clamped patch lies between the two. Returns P = F S along the load
-    for each strain (numpy evaluation of the surface, no finite elements).
-    """
-    if direction not in DIRECTIONS:
-        raise InputError(f"direction={direction!r} is not one of {', '.join(DIRECTIONS)}")
-    if lateral not in ("free", "fixed"):
-        raise InputError(f"lateral={lateral!r} must be 'free' or 'fixed'")
-    axis = DIRECTIONS[direction][2]
-    other = 1 - axis
-    forces = []
-    for value in np.atleast_1d(np.asarray(strain, dtype=float)):
-        E_load = ((1.0 + value) ** 2 - 1.0) / 2.0
-
-        def stress(E_lateral, E_load=E_load):
-            E = np.zeros(3)
-            E[axis], E[other] = E_load, E_lateral
-            return surface.stress(E).S[0]
-
-        lateral_strain = 0.0
-        if lateral == "free":
-            lateral_strain = _free_lateral_strain(lambda e, stress=stress: stress(e)[other], value)
-        forces.append((1.0 + value) * stress(lateral_strain)[axis])
-    return np.array(forces)
-
-
-_LATERAL_LIMIT = 0.5
-"""Largest |E| searched for the free lateral strain."""
-_LATERAL_SCAN = 0.01
-"""Step of the scan outward from E = 0 for a sign change of the lateral stress."""
-
-
-def _free_lateral_strain(lateral_stress, strain: float) -> float:
-    """The lateral Green-Lagrange strain nearest to 0 at which `lateral_stress` vanishes.
-
-    Scans outward from 0 on both sides for the first sign change, then solves with Brent's
-    method: a fitted surface may turn over far outside its data (its linear extension), so
-    a root there must not be taken for the physical one nearer to the reference state.
-    """
-    at_zero = lateral_stress(0.0)
-    if at_zero == 0.0:
-        return 0.0
-    for step in range(1, round(_LATERAL_LIMIT / _LATERAL_SCAN) + 1):
-        for sign in (-1.0, 1.0):
-            end = sign * step * _LATERAL_SCAN
-            start = end - sign * _LATERAL_SCAN
-            if np.sign(lateral_stress(end)) != np.sign(lateral_stress(start)):
-                return scipy.optimize.brentq(lateral_stress, *sorted((start, end)), xtol=1e-15)
-    raise InputError(
-        f"at strain {strain:.4g} no lateral strain in [-{_LATERAL_LIMIT}, {_LATERAL_LIMIT}] "
-        "makes the lateral stress vanish"
-    )

@@ -25,11 +25,11 @@ from mpi4py import MPI
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.plot import plot_cell_field
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import TensionSetup, homogeneous_response
+from fabric_dolfinx.tension import TensionSetup
 from fabric_dolfinx.tension_spec import DIRECTIONS
 from knitmech.records import PatchJob, PatchSummary
 from rve_rod.errors import ConvergenceError, InputError
-from rve_rod.surface import read_surface
+from rve_rod.surface import homogeneous_response, read_surface
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
 __all__ = [

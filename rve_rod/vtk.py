@@ -1,15 +1,28 @@
 """Yarn centrelines as VTK files for ParaView: polylines with point data, via meshio.
 
+`write_polylines` writes any set of centrelines (the loop geometry of `rve-rod geometry`);
+`write_vtk` the deformed yarns of an RVE run, one .vtu per output state: the cell's yarn and
+its periodic neighbours (the images x + F L for |i|, |j| <= `neighbours`) as polylines sampled
+along the centreline, with point data `radius` (mm, the adjusted yarn radius), `image_i`,
+`image_j` and `arc_parameter` (the patch parameter in quarter loops).
+
 Render the yarns with ParaView's Tube filter, radius from the `radius` point array
 ("Vary Radius: By Absolute Scalar").
 """
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import meshio
 import numpy as np
 
 from rve_rod.errors import InputError
+
+if TYPE_CHECKING:
+    from rve_rod.rve.simulation import RveResult
+
+SAMPLES_PER_QUARTER = 48
+"""Polyline points per quarter loop of an RVE run."""
 
 
 def write_polylines(
@@ -49,3 +62,35 @@ def write_polylines(
     )
     meshio.Mesh(np.vstack(points), [("line", np.vstack(lines))], point_data=data).write(path)
     return path
+
+
+def write_vtk(result: "RveResult", folder, neighbours: int = 1) -> list[Path]:
+    """Write `state_000.vtu`, ... into `folder` (created if missing); returns the paths."""
+    folder = Path(folder)
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"--vtk {folder} exists and is not a folder")
+    folder.mkdir(parents=True, exist_ok=True)
+    low, high = result.curve.domain
+    parameters = np.linspace(low, high, int(SAMPLES_PER_QUARTER * (high - low)) + 1)
+    knit = result.fabric.knit
+    lattice = np.array([[knit.wale_width, 0.0, 0.0], [0.0, knit.course_height, 0.0]])
+    shifts = [
+        (i, j)
+        for i in range(-neighbours, neighbours + 1)
+        for j in range(-neighbours, neighbours + 1)
+    ]
+    paths = []
+    for index, step in enumerate(result.steps):
+        F = np.eye(3)
+        F[:2, :2] = step.deformation
+        centreline = result.centreline(index)(parameters)
+        offsets = [F @ (i * lattice[0] + j * lattice[1]) for i, j in shifts]
+        data = {
+            "image_i": [np.full(parameters.size, float(i)) for i, _ in shifts],
+            "image_j": [np.full(parameters.size, float(j)) for _, j in shifts],
+            "arc_parameter": [parameters] * len(shifts),
+        }
+        path = folder / f"state_{index:03d}.vtu"
+        write_polylines(path, [centreline + offset for offset in offsets], result.yarn.radius, data)
+        paths.append(path)
+    return paths

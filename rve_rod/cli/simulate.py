@@ -112,7 +112,7 @@ def _write(result: RveResult, args: argparse.Namespace) -> None:
 
         written.append(str(plot_curve(result, args.plot)))
     if args.vtk:
-        from rve_rod.rve.output import write_vtk  # noqa: PLC0415
+        from rve_rod.vtk import write_vtk  # noqa: PLC0415
 
         written.extend(str(path) for path in write_vtk(result, args.vtk))
     if args.json:

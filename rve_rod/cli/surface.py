@@ -16,7 +16,13 @@ from rve_rod.homogenize.fit import FitOptions, FitReport
 from rve_rod.homogenize.generate import GenerationError, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
 from rve_rod.rve.engine import surface_engine
-from rve_rod.surface import STRESS_GROUPS, ResponseSurface, read_surface, write_surface
+from rve_rod.surface import (
+    STRESS_GROUPS,
+    ResponseSurface,
+    read_surface,
+    tangent_asymmetry,
+    write_surface,
+)
 
 __all__ = [
     "describe",
@@ -134,7 +140,7 @@ def describe(surface: ResponseSurface) -> dict:
         "generator": dict(surface.generator),
         "domain": {label: domain[a].tolist() for a, label in enumerate(("E11", "E22", "E12"))},
         "groups": groups,
-        "tangent_asymmetry": surface.tangent_asymmetry(),
+        "tangent_asymmetry": tangent_asymmetry(surface),
         "parameters": dict(surface.parameters),
     }
 

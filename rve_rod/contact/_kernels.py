@@ -4,8 +4,33 @@ Arrays are components first, batch last. Each kernel writes into preallocated ou
 checked against a plain NumPy/SciPy reference in tests/unit/test_contact_kernels.py.
 """
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
+
+
+@njit(cache=True)
+def compressible_yarn_law(penetration, parameters, out):
+    """The compressible-yarn law (`rve_rod.contact.law`, Weeger et al.) at k penetrations.
+
+    f_n(g) = k (r/p) (g/r)^p and f_n'(g) = k (g/r)^(p-1) for g > 0, both 0 for g <= 0.
+
+    Args:
+        penetration: (k,) g = 2r - d (mm).
+        parameters: (3,) stiffness k (MPa), exponent p (-), yarn radius r (mm).
+        out: (2, k) output: f_n (N/mm) and f_n' (N/mm^2).
+    """
+    stiffness, exponent, radius = parameters[0], parameters[1], parameters[2]
+    for c in range(penetration.size):
+        g = penetration[c]
+        f = 0.0
+        slope = 0.0
+        if g > 0.0:
+            f = stiffness * (radius / exponent) * (g / radius) ** exponent
+            slope = stiffness * (g / radius) ** (exponent - 1.0)
+        out[0, c] = f
+        out[1, c] = slope
 
 
 @njit(cache=True)
@@ -67,18 +92,18 @@ def _span_geometry(coefficients, span, tau, out):
 
 
 @njit(cache=True)
-def _start_slope(coefficients, span, x0, x1, x2):
-    """Slope C'.(C - x) of the squared distance from x at the start (tau = 0) of a span."""
+def _start_slope(coefficients, span, target):
+    """Slope C'.(C - x) of the squared distance from x (3,) at the start (tau = 0) of a span."""
     return (
-        coefficients[0, 1, span] * (coefficients[0, 0, span] - x0)
-        + coefficients[1, 1, span] * (coefficients[1, 0, span] - x1)
-        + coefficients[2, 1, span] * (coefficients[2, 0, span] - x2)
+        coefficients[0, 1, span] * (coefficients[0, 0, span] - target[0])
+        + coefficients[1, 1, span] * (coefficients[1, 0, span] - target[1])
+        + coefficients[2, 1, span] * (coefficients[2, 0, span] - target[2])
     )
 
 
 @njit(cache=True)
-def _end_slope(coefficients, span, x0, x1, x2):
-    """Slope C'.(C - x) of the squared distance from x at the end (tau = 1) of a span."""
+def _end_slope(coefficients, span, target):
+    """Slope C'.(C - x) of the squared distance from x (3,) at the end (tau = 1) of a span."""
     slope = 0.0
     for c in range(3):
         value = 0.0
@@ -86,14 +111,40 @@ def _end_slope(coefficients, span, x0, x1, x2):
         for k in range(coefficients.shape[1]):
             value += coefficients[c, k, span]
             derivative += k * coefficients[c, k, span]
-        slope += derivative * (value - (x0 if c == 0 else x1 if c == 1 else x2))
+        slope += derivative * (value - target[c])
     return slope
 
 
+class SpanGroups(NamedTuple):
+    """The spans of all patches as the projection kernel takes them.
+
+    Attributes:
+        coefficients: (3, p+1, S) power-basis coefficients of the spans.
+        group_spans: (2, B) first span and number of spans of each group.
+        span_next: (S,) next span of the same patch, -1 for a patch's last span.
+        closed_end: (S,) True for spans that own their end point (end of an open yarn).
+    """
+
+    coefficients: np.ndarray
+    group_spans: np.ndarray
+    span_next: np.ndarray
+    closed_end: np.ndarray
+
+
+class Minima(NamedTuple):
+    """Preallocated outputs of `project_on_groups` (capacity minima).
+
+    Attributes:
+        index: (2, capacity) int64: target and span of each minimum found.
+        values: (10, capacity): tau, then C, dC/dtau, d2C/dtau2 (3 each) at tau.
+    """
+
+    index: np.ndarray
+    values: np.ndarray
+
+
 @njit(cache=True)
-def project_on_groups(  # noqa: PLR0917 (numba kernels take their arrays positionally)
-    coefficients, group_spans, span_next, closed_end, groups, targets, tolerance, out_index, out
-):
+def project_on_groups(spans, groups, targets, tolerance, out):
     """Closest points of targets on groups of spans: every local minimum of distance.
 
     The squared distance f(tau) = |C(tau) - x|^2 / 2 has slope g = C'.(C - x). A span owns a
@@ -104,73 +155,60 @@ def project_on_groups(  # noqa: PLR0917 (numba kernels take their arrays positio
     it always converges, quadratically near the root).
 
     Args:
-        coefficients: (3, p+1, S) power-basis coefficients of the spans.
-        group_spans: (2, B) first span and number of spans of each group.
-        span_next: (S,) next span of the same patch, -1 for a patch's last span.
-        closed_end: (S,) True for spans that own their end point (end of an open yarn).
+        spans: `SpanGroups`.
         groups: (k,) group of each target.
         targets: (3, k) points to project (slave point minus the image translation).
         tolerance: convergence tolerance on tau (the iteration limit follows from it).
-        out_index: (2, capacity) int64 output: target and span of each minimum found.
-        out: (10, capacity) output: tau, then C, dC/dtau, d2C/dtau2 (3 each) at tau.
+        out: `Minima` buffers.
 
     Returns the number of minima found; only the first `capacity` are written.
     """
+    coefficients, group_spans = spans.coefficients, spans.group_spans
     local = np.empty((3, 3))
-    capacity = out.shape[1]
-    max_iterations = 2 * int(np.log2(1.0 / tolerance)) + 10
+    capacity = out.values.shape[1]
     count = 0
     for c in range(groups.size):
-        x0 = targets[0, c]
-        x1 = targets[1, c]
-        x2 = targets[2, c]
+        target = targets[:, c]
         first = group_spans[0, groups[c]]
-        slope_low = _start_slope(coefficients, first, x0, x1, x2)
+        slope_low = _start_slope(coefficients, first, target)
         for s in range(first, first + group_spans[1, groups[c]]):
-            following = span_next[s]
+            following = spans.span_next[s]
             if following >= 0:
-                slope_high = _start_slope(coefficients, following, x0, x1, x2)
+                slope_high = _start_slope(coefficients, following, target)
             else:
-                slope_high = _end_slope(coefficients, s, x0, x1, x2)
-            owned = slope_low <= 0.0 and (slope_high > 0.0 or (closed_end[s] and slope_high >= 0.0))
+                slope_high = _end_slope(coefficients, s, target)
+            owned = slope_low <= 0.0 and (
+                slope_high > 0.0 or (spans.closed_end[s] and slope_high >= 0.0)
+            )
             if owned:
-                t = _safeguarded_newton(
-                    coefficients,
-                    s,
-                    x0,
-                    x1,
-                    x2,
-                    slope_low,
-                    slope_high,
-                    tolerance,
-                    max_iterations,
-                    local,
-                )
+                t = _safeguarded_newton(coefficients, s, target, (slope_low, slope_high), tolerance)
                 if count < capacity:
-                    out_index[0, count] = c
-                    out_index[1, count] = s
-                    out[0, count] = t
+                    _span_geometry(coefficients, s, t, local)
+                    out.index[0, count] = c
+                    out.index[1, count] = s
+                    out.values[0, count] = t
                     for row in range(3):
                         for col in range(3):
-                            out[1 + 3 * row + col, count] = local[row, col]
+                            out.values[1 + 3 * row + col, count] = local[row, col]
                 count += 1
             slope_low = slope_high
     return count
 
 
 @njit(cache=True)
-def _safeguarded_newton(  # noqa: PLR0917
-    coefficients, span, x0, x1, x2, slope_low, slope_high, tolerance, max_iterations, local
-):
-    """Root of the slope in [0, 1] given its signs at the ends; leaves geometry in local."""
+def _safeguarded_newton(coefficients, span, target, bracket, tolerance):
+    """Root of the slope in [0, 1] given its signs (slope_low, slope_high) at the ends."""
+    local = np.empty((3, 3))
+    max_iterations = 2 * int(np.log2(1.0 / tolerance)) + 10
+    slope_low, slope_high = bracket
     low = 0.0
     high = 1.0
     t = 0.0 if slope_low == slope_high else slope_low / (slope_low - slope_high)
     for _ in range(max_iterations):
         _span_geometry(coefficients, span, t, local)
-        d0 = local[0, 0] - x0
-        d1 = local[0, 1] - x1
-        d2 = local[0, 2] - x2
+        d0 = local[0, 0] - target[0]
+        d1 = local[0, 1] - target[1]
+        d2 = local[0, 2] - target[2]
         slope = local[1, 0] * d0 + local[1, 1] * d1 + local[1, 2] * d2
         curvature = (
             local[1, 0] ** 2
@@ -191,27 +229,56 @@ def _safeguarded_newton(  # noqa: PLR0917
         t = step
         if done:
             break
-    _span_geometry(coefficients, span, t, local)
     return t
 
 
+class SpanChain(NamedTuple):
+    """How the derivative blocks of k loads chain to the control points of their spans.
+
+    Attributes:
+        first: (3, k) int64 first control point of the slave span, the master span and the
+            anchor span (-1: no anchor) of each load.
+        basis: (4, p+1, k) the values chaining each block to the span's control points:
+            N_a(slave tau), N_b(master tau), dN_b/dtau(master tau), N_c(anchor tau).
+    """
+
+    first: np.ndarray
+    basis: np.ndarray
+
+
+class CooEntries(NamedTuple):
+    """Preallocated COO outputs of `block_entries`: (capacity,) rows, columns (int64), values."""
+
+    rows: np.ndarray
+    columns: np.ndarray
+    values: np.ndarray
+
+    @classmethod
+    def empty(cls, capacity: int) -> "CooEntries":
+        """Buffers for `capacity` entries."""
+        return cls(
+            np.empty(capacity, dtype=np.int64),
+            np.empty(capacity, dtype=np.int64),
+            np.empty(capacity),
+        )
+
+
 @njit(cache=True)
-def block_entries(blocks, slave, n_points, first, basis, rows, columns, values):  # noqa: PLR0917
+def block_entries(blocks, slave, n_points, chain, out):
     """COO entries of the contact-load derivative with respect to the control points.
 
     Args:
         blocks: (4, 3, 3, k) derivative blocks of each load w.r.t. x_s, x_m, C' and x_a.
-        slave: (k,) collocation point of each load; n_points: number of collocation points
-            m (component i of point j is row i m + j).
-        first: (3, k) first control point of the slave span, the master span and the anchor
-            span (-1: no anchor) of each load.
-        basis: (4, p+1, k) the values chaining each block to the span's control points:
-            N_a(slave tau), N_b(master tau), dN_b/dtau(master tau), N_c(anchor tau).
-        rows, columns, values: (capacity,) outputs, capacity >= 9 * 3 (p+1) k.
+        slave: (k,) collocation point of each load.
+        n_points: number of collocation points m (component i of point j is row i m + j).
+        chain: `SpanChain` of the k loads.
+        out: `CooEntries`, capacity >= 9 * 3 (p+1) k.
 
     Block b of span control point a goes to columns 3 (first + a) + j; the master span takes
     blocks 1 and 2 together. Returns the number of entries written.
     """
+    first, basis = chain.first, chain.basis
+    rows, columns, values = out.rows, out.columns, out.values
     n_basis = basis.shape[1]
     count = 0
     for c in range(slave.size):
@@ -239,72 +306,107 @@ def block_entries(blocks, slave, n_points, first, basis, rows, columns, values):
     return count
 
 
-@njit(cache=True)
-def contact_loads(  # noqa: PLR0917
-    gap_vector, tangent, metric, slip_vector, anchored, law, friction, load, force, blocks, state
-):
-    """Line loads of k contacts (compressible-yarn law, Coulomb friction) and their derivatives.
+class ContactGeometry(NamedTuple):
+    """Closest-point geometry of k contacts as `contact_loads` takes it (contacts last).
 
-    Per contact: v = x_s - x_m, d = |v|, n = v/d, g = 2r - d, f_n = k (r/p) (g/r)^p and
-    f_n' = k (g/r)^(p-1) for g > 0. Normal load f_n n with derivative blocks
+    Attributes:
+        gap_vector: (3, k) v = x_s - x_m (mm).
+        tangent: (3, k) C' = dC/dtau at the closest point (mm).
+        metric: (k,) H = C'.C' - C''.v (mm^2).
+        slip_vector: (3, k) w = x_s - x_a - o relative to the stick anchor (mm).
+        anchored: (k,) True where the contact has an anchor (friction applies).
+    """
+
+    gap_vector: np.ndarray
+    tangent: np.ndarray
+    metric: np.ndarray
+    slip_vector: np.ndarray
+    anchored: np.ndarray
+
+
+class LoadOutput(NamedTuple):
+    """Preallocated outputs of `contact_loads` for k contacts.
+
+    Attributes:
+        load: (3, k) line load (N/mm).
+        blocks: (4, 3, 3, k) derivatives of the load w.r.t. x_s, x_m, C' and the anchor point
+            x_a (N/mm^2).
+        state: (k,) int8: 0 no friction, 1 stick, 2 slip.
+    """
+
+    load: np.ndarray
+    blocks: np.ndarray
+    state: np.ndarray
+
+
+class _Contact(NamedTuple):
+    """One contact inside `contact_loads`: n, C', v (3,), d, H, f_n, f_n' and P = I - n n^T."""
+
+    normal: np.ndarray
+    tangent: np.ndarray
+    gap_vector: np.ndarray
+    distance: float
+    metric: float
+    force: float
+    slope: float
+    projector: np.ndarray
+
+
+@njit(cache=True)
+def contact_loads(geometry, normal_law, friction, out):
+    """Line loads of k contacts (a normal law, Coulomb friction) and their derivatives.
+
+    Per contact: v = x_s - x_m, d = |v|, n = v/d; the normal line load f_n and its slope
+    f_n' = df_n/dg on the penetration g = 2r - d come from the law (`rve_rod.contact.law`).
+    Normal load f_n n with derivative blocks
     K (dx_s - dx_m) - (f_n/H) C' n^T dC', K = -f_n' n n^T + (f_n/d) P - f_n/(d H) C' C'^T,
     P = I - n n^T. Friction on anchored contacts: slip g_T = P w, trial -k_t g_T, stick or
     slip to mu f_n (return mapping) with dg_T = P dw + G dv, G = -[(n.w) P + n g_T^T]/d,
     dv = Q (dx_s - dx_m) - C' v.dC'/H, Q = I - C' C'^T/H (docs/contact.md).
 
     Args:
-        gap_vector: (3, k) v (mm).
-        tangent: (3, k) C' = dC/dtau at the closest point (mm).
-        metric: (k,) H = C'.C' - C''.v (mm^2).
-        slip_vector: (3, k) w = x_s - x_a - o relative to the stick anchor (mm).
-        anchored: (k,) True where the contact has an anchor (friction applies).
-        law: (3,) stiffness k (MPa), exponent p, yarn radius r (mm).
+        geometry: `ContactGeometry` of the k contacts.
+        normal_law: (2, k) f_n (N/mm) and f_n' (N/mm^2) of each contact.
         friction: (2,) coefficient mu and tangential stiffness k_t (MPa); mu = 0: none.
-        load: (3, k) output line load (N/mm).
-        force: (k,) output normal line load f_n (N/mm).
-        blocks: (4, 3, 3, k) output derivatives of the load w.r.t. x_s, x_m, C' and the
-            anchor point x_a.
-        state: (k,) int8 output: 0 no friction, 1 stick, 2 slip.
+        out: `LoadOutput` buffers, overwritten.
     """
-    stiffness, exponent, radius = law[0], law[1], law[2]
-    mu, k_t = friction[0], friction[1]
+    mu = friction[0]
+    gap_vector, tangent = geometry.gap_vector, geometry.tangent
     n = np.empty(3)
     t = np.empty(3)
     v = np.empty(3)
     projector = np.empty((3, 3))
-    for c in range(metric.size):
+    for c in range(geometry.metric.size):
         d = np.sqrt(gap_vector[0, c] ** 2 + gap_vector[1, c] ** 2 + gap_vector[2, c] ** 2)
         for i in range(3):
             v[i] = gap_vector[i, c]
             n[i] = v[i] / d
             t[i] = tangent[i, c]
-        h = metric[c]
-        g = 2.0 * radius - d
-        f = 0.0
-        slope = 0.0
-        if g > 0.0:
-            f = stiffness * (radius / exponent) * (g / radius) ** exponent
-            slope = stiffness * (g / radius) ** (exponent - 1.0)
-        force[c] = f
+        h = geometry.metric[c]
+        f = normal_law[0, c]
+        slope = normal_law[1, c]
         for i in range(3):
-            load[i, c] = f * n[i]
+            out.load[i, c] = f * n[i]
             for j in range(3):
                 projector[i, j] = (1.0 if i == j else 0.0) - n[i] * n[j]
                 k_ij = -slope * n[i] * n[j] + f / d * projector[i, j] - f / (d * h) * t[i] * t[j]
-                blocks[0, i, j, c] = k_ij
-                blocks[1, i, j, c] = -k_ij
-                blocks[2, i, j, c] = -f / h * t[i] * n[j]
-                blocks[3, i, j, c] = 0.0
-        state[c] = 0
-        if mu > 0.0 and anchored[c]:
-            _friction(
-                c, n, t, v, d, h, f, slope, slip_vector, mu, k_t, projector, load, blocks, state
-            )
+                out.blocks[0, i, j, c] = k_ij
+                out.blocks[1, i, j, c] = -k_ij
+                out.blocks[2, i, j, c] = -f / h * t[i] * n[j]
+                out.blocks[3, i, j, c] = 0.0
+        out.state[c] = 0
+        if mu > 0.0 and geometry.anchored[c]:
+            contact = _Contact(n, t, v, d, h, f, slope, projector)
+            _friction(c, contact, geometry.slip_vector, friction, out)
 
 
 @njit(cache=True)
-def _friction(c, n, t, v, d, h, f, slope, slip_vector, mu, k_t, projector, load, blocks, state):  # noqa: PLR0917
+def _friction(c, contact, slip_vector, friction, out):
     """Return mapping of contact c; adds its load and derivative blocks (see contact_loads)."""
+    n, t, v = contact.normal, contact.tangent, contact.gap_vector
+    d, h, f, slope = contact.distance, contact.metric, contact.force, contact.slope
+    projector = contact.projector
+    mu, k_t = friction[0], friction[1]
     w = slip_vector[:, c]
     normal_part = n[0] * w[0] + n[1] * w[1] + n[2] * w[2]
     slip = np.empty(3)
@@ -340,17 +442,17 @@ def _friction(c, n, t, v, d, h, f, slope, slip_vector, mu, k_t, projector, load,
     t_master = factor @ d_master
     t_anchor = -(factor @ projector)
     for i in range(3):
-        load[i, c] += scale * trial[i]
+        out.load[i, c] += scale * trial[i]
         for j in range(3):
             normal_term = -mu * slope * direction[i] * n[j] if sliding else 0.0
-            blocks[0, i, j, c] += t_slave[i, j] + normal_term
-            blocks[1, i, j, c] += t_master[i, j] - normal_term
-            blocks[3, i, j, c] = t_anchor[i, j]
+            out.blocks[0, i, j, c] += t_slave[i, j] + normal_term
+            out.blocks[1, i, j, c] += t_master[i, j] - normal_term
+            out.blocks[3, i, j, c] = t_anchor[i, j]
     for i in range(3):
         for j in range(3):
             # d/dC': -T G C' v^T / H
             value = 0.0
             for a in range(3):
                 value += factor[i, a] * g_tangent[a]
-            blocks[2, i, j, c] -= value * v[j] / h
-    state[c] = 2 if sliding else 1
+            out.blocks[2, i, j, c] -= value * v[j] / h
+    out.state[c] = 2 if sliding else 1

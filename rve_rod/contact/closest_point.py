@@ -62,23 +62,14 @@ def project(
     coefficients = np.ascontiguousarray(coefficients)
     targets = np.ascontiguousarray(targets)
     groups = groups.astype(np.int64)
+    spans = _kernels.SpanGroups(coefficients, group_spans, span_next, closed_end)
     while True:
-        out_index = np.empty((2, capacity), dtype=np.int64)
-        out = np.empty((10, capacity))
-        count = _kernels.project_on_groups(
-            coefficients,
-            group_spans,
-            span_next,
-            closed_end,
-            groups,
-            targets,
-            TOLERANCE,
-            out_index,
-            out,
-        )
+        out = _kernels.Minima(np.empty((2, capacity), dtype=np.int64), np.empty((10, capacity)))
+        count = _kernels.project_on_groups(spans, groups, targets, TOLERANCE, out)
         if count <= capacity:
             break
         capacity = count
+    out_index, out = out
     return Projections(
         candidate=out_index[0, :count],
         span=out_index[1, :count],

@@ -9,9 +9,12 @@ stationarity C'.v = 0 gives the parameter sensitivity
     dtau = [v.dC' + C'.(dx_s - dx_m)] / H,   dv = Q (dx_s - dx_m) - C' v.dC' / H,
     Q = I - C' C'^T / H,   dd = n.(dx_s - dx_m),   dn = (I - n n^T) dv / d.
 
-Each load derivative is returned as 3x3 blocks with respect to x_s, x_m (at fixed tau),
-C'(tau) (at fixed tau) and the friction anchor x_a (`_kernels.contact_loads`); the caller
-chains them with the basis functions of the control points (and with F through x_m, x_a).
+The normal line load f_n(g) and its slope come from the law
+(`CompressibleYarnLaw.load_and_slope`), evaluated here on the penetrations; the kernel takes
+them as arrays. Each load derivative is returned as 3x3 blocks with respect to x_s, x_m (at
+fixed tau), C'(tau) (at fixed tau) and the friction anchor x_a (`_kernels.contact_loads`); the
+caller chains them with the basis functions of the control points (and with F through x_m,
+x_a).
 """
 
 from typing import NamedTuple
@@ -95,26 +98,23 @@ def contact_loads(
     Stick (|k_t g_T| <= mu f_n): f_t = -k_t g_T. Slip: f_t = mu f_n t with t = -g_T / |g_T|.
     """
     k = state.distance.size
-    load = np.empty((3, k))
-    force = np.empty(k)
-    blocks = np.empty((4, 3, 3, k))
-    flags = np.empty(k, dtype=np.int8)
+    penetration = 2.0 * law.yarn_radius - state.distance
+    normal_law = law.load_and_slope(penetration)
     coefficients = (
         (0.0, 1.0) if friction is None else (friction.coefficient, friction.tangential_stiffness)
     )
-    _kernels.contact_loads(
-        np.ascontiguousarray(state.gap_vector),
-        np.ascontiguousarray(state.tangent),
-        np.ascontiguousarray(state.metric),
-        np.ascontiguousarray(slip_vector),
-        np.ascontiguousarray(anchored),
-        np.array([law.stiffness, law.exponent, law.yarn_radius]),
-        np.array(coefficients),
-        load,
-        force,
-        blocks,
-        flags,
+    geometry = _kernels.ContactGeometry(
+        gap_vector=np.ascontiguousarray(state.gap_vector),
+        tangent=np.ascontiguousarray(state.tangent),
+        metric=np.ascontiguousarray(state.metric),
+        slip_vector=np.ascontiguousarray(slip_vector),
+        anchored=np.ascontiguousarray(anchored),
     )
+    out = _kernels.LoadOutput(
+        load=np.empty((3, k)), blocks=np.empty((4, 3, 3, k)), state=np.empty(k, dtype=np.int8)
+    )
+    _kernels.contact_loads(geometry, normal_law, np.array(coefficients), out)
+    load, force, blocks, flags = out.load, normal_law[0], out.blocks, out.state
     friction_load = load - force * state.normal
     return ContactLoads(
         load=load,

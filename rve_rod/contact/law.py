@@ -11,12 +11,19 @@ so the exponent softens as the yarn radius r is squeezed below its measured radi
 is used only with p >= 1 (`MINIMUM_EXPONENT`): below p = 1 the slope df_n/dg is infinite at
 first touch (no Newton tangent exists there), and as p -> 0 (r0/r -> 3^(1/3) = 1.442) the force
 k r/p at any penetration becomes unbounded. p = 1 is the linear penalty f_n = k g.
+
+`CompressibleYarnLaw.load_and_slope` is what a run evaluates: the contact model calls it on the
+penetrations of the active contacts and hands f_n, df_n/dg to the load kernel
+(`rve_rod.contact.forces.contact_loads`), which has no formula of its own. The formula itself
+is one numba function, `_kernels.compressible_yarn_law` (compiled, so that every caller gets the
+same bits), which `line_load` and `line_stiffness` share.
 """
 
 from dataclasses import dataclass
 
 import numpy as np
 
+from rve_rod.contact import _kernels
 from rve_rod.errors import InputError, check_positive, check_range
 
 MINIMUM_EXPONENT = 1.0
@@ -82,17 +89,26 @@ class CompressibleYarnLaw:
         stiffness = stiffness_factor * youngs_modulus * ratio**8
         return cls(stiffness=stiffness, exponent=max(exponent, MINIMUM_EXPONENT), yarn_radius=r)
 
+    def load_and_slope(self, penetration: np.ndarray) -> np.ndarray:
+        """f_n(g) (N/mm) and df_n/dg = k (g/r)^(p-1) (N/mm^2) for penetrations g (mm), both
+        zero where g <= 0 (the slope is k itself at g = 0+ if p = 1); shape (2, *g.shape).
+
+        The one evaluation of the law, `_kernels.compressible_yarn_law`: the contact loads of a
+        run call this method (`rve_rod.contact.forces.contact_loads`).
+        """
+        g = np.asarray(penetration, dtype=float)
+        out = np.empty((2, g.size))
+        parameters = np.array([self.stiffness, self.exponent, self.yarn_radius])
+        _kernels.compressible_yarn_law(np.ascontiguousarray(g.ravel()), parameters, out)
+        return out.reshape((2, *g.shape))
+
     def line_load(self, penetration: np.ndarray) -> np.ndarray:
         """f_n(g) (N/mm) for penetrations g (mm), zero where g <= 0; same shape as g."""
-        g = np.maximum(np.asarray(penetration, dtype=float), 0.0)
-        r, p = self.yarn_radius, self.exponent
-        return self.stiffness * (r / p) * (g / r) ** p
+        return self.load_and_slope(penetration)[0]
 
     def line_stiffness(self, penetration: np.ndarray) -> np.ndarray:
         """df_n/dg = k (g/r)^(p-1) (N/mm^2), zero where g <= 0 (k itself at g = 0+ if p = 1)."""
-        g = np.asarray(penetration, dtype=float)
-        slope = self.stiffness * (np.maximum(g, 0.0) / self.yarn_radius) ** (self.exponent - 1.0)
-        return np.where(g > 0.0, slope, 0.0)
+        return self.load_and_slope(penetration)[1]
 
     def line_energy(self, penetration: np.ndarray) -> np.ndarray:
         """Stored energy per unit length, int_0^g f_n = k r^2 (g/r)^(p+1) / (p (p+1)) (N)."""

@@ -600,20 +600,12 @@ class ContactModel:
         basis = np.zeros((4, t, layout.degree + 1))
         basis[0] = layout.point_basis[active.slave[terms.contact]]
         basis[1] = layout.basis(terms.span, terms.tau)
-        size = t * 9 * 2 * (layout.degree + 1)
-        rows = np.empty(size, dtype=np.int64)
-        columns = np.empty(size, dtype=np.int64)
-        values = np.empty(size)
-        count = _kernels.block_entries(
-            blocks,
-            terms.contact,
-            k,
-            np.ascontiguousarray(first),
-            np.ascontiguousarray(basis.transpose(0, 2, 1)),
-            rows,
-            columns,
-            values,
+        chain = _kernels.SpanChain(
+            np.ascontiguousarray(first), np.ascontiguousarray(basis.transpose(0, 2, 1))
         )
+        out = _kernels.CooEntries.empty(t * 9 * 2 * (layout.degree + 1))
+        count = _kernels.block_entries(blocks, terms.contact, k, chain, out)
+        rows, columns, values = out
         positions = weighted.positions
         jacobian = scipy.sparse.coo_matrix(
             (
@@ -655,21 +647,11 @@ class ContactModel:
                 anchor_basis,
             ]
         ).transpose(0, 2, 1)
-        size = slave.size * 9 * 3 * (layout.degree + 1)
-        rows = np.empty(size, dtype=np.int64)
-        columns = np.empty(size, dtype=np.int64)
-        values = np.empty(size)
         k = slave.size
-        count = _kernels.block_entries(
-            blocks,
-            np.arange(k, dtype=np.int64),
-            k,
-            np.ascontiguousarray(first),
-            np.ascontiguousarray(basis),
-            rows,
-            columns,
-            values,
-        )
+        chain = _kernels.SpanChain(np.ascontiguousarray(first), np.ascontiguousarray(basis))
+        out = _kernels.CooEntries.empty(k * 9 * 3 * (layout.degree + 1))
+        count = _kernels.block_entries(blocks, np.arange(k, dtype=np.int64), k, chain, out)
+        rows, columns, values = out
         shape = (3 * k, 3 * layout.n_control_points)
         jacobian = scipy.sparse.coo_matrix(
             (values[:count], (rows[:count], columns[:count])), shape=shape

@@ -22,44 +22,35 @@ apex (and by symmetry at the sinker). The shoulder radius rho (`shoulder_radius_
 free shape parameter; for each rho the depth d is the smallest for which the yarn clears its
 neighbours by 2r (a secant search), and rho is chosen to minimize the loop length.
 
-The quarter is fitted by a degree-4 B-spline with 12 control points (least squares in arc
-length, with the end conditions that make the mirrored loop C2, and W pinned) and mirrored by
-the loop's two symmetries, x -> -x (about the head apex) and (x, y) -> (w/2 - x, -y) (about L),
-into the 4 curves of one loop from sinker to sinker. Each curve is parametrized on [0, 1]; the
-loop runs through curve 0, 1, 2, 3 and continues into curve 0 of the next wale shifted by
-(w, 0, 0).
+The quarter is fitted by a degree-4 B-spline with 12 control points and mirrored into the 4
+curves of one loop from sinker to sinker (`rve_rod.geometry.loop_spline`). Each curve is
+parametrized on [0, 1]; the loop runs through curve 0, 1, 2, 3 and continues into curve 0 of
+the next wale shifted by (w, 0, 0).
 """
 
 import logging
 import math
 from dataclasses import dataclass
-from functools import cache, lru_cache
+from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
 import scipy.optimize
 
 from rve_rod.errors import InputError, check_integer, check_positive, check_range
-from rve_rod.geometry.bspline import (
-    BSplineCurve,
-    basis_functions,
-    basis_matrix,
-    open_knot_vector,
-)
+from rve_rod.geometry.bspline import BSplineCurve
+from rve_rod.geometry.loop_spline import CONTROL_POINTS, DEGREE, fit_quarter, mirrored_loop
 from rve_rod.geometry.proximity import ChainClearance, chain_clearance
 from rve_rod.presets import Knit
 
 logger = logging.getLogger(__name__)
 
-DEGREE = 4
-"""Degree of the loop curves (the paper's geometry)."""
-CONTROL_POINTS = 12
-"""Control points of each quarter curve before refinement."""
 ADJACENT_ARC_FACTOR = math.pi
 """Parts of the same yarn closer than this times r in arc length are adjacent, not in contact."""
+RADIUS_PER_WALE_WIDTH = 1.0 / 8.0
+"""r <= w/8: the largest radius a loop of wale width w holds (four yarn diameters per wale)."""
 MAX_DEPTH_FACTOR = 12.0
 """Depths beyond 12 r count as no fit (the optimal loops have d = 2.0-2.1 r)."""
-_FIT_SAMPLES = 121
 _POLYLINE_SAMPLES = 60
 _SECTION_SAMPLES = 400
 SHOULDER_ASPECT = 1.3
@@ -172,7 +163,7 @@ class LoopShape:
 
     def curves(self) -> tuple[BSplineCurve, ...]:
         """The 4 B-spline curves of the loop: the fitted quarter, mirrored (`mirrored_loop`)."""
-        return mirrored_loop(_fit_quarter(self), self.wale_width)
+        return mirrored_loop(fit_quarter(self), self.wale_width)
 
 
 class QuarterSamples(NamedTuple):
@@ -282,7 +273,7 @@ def shoulder_radius_bounds(
 
 def adjusted_radius(minimal_radius: float, wale_width: float) -> float:
     """r = min(r0, w/8): the yarn radius the loop model can accommodate (mm)."""
-    return min(minimal_radius, wale_width / 8.0)
+    return min(float(minimal_radius), RADIUS_PER_WALE_WIDTH * float(wale_width))
 
 
 def loop_geometry(knit: Knit, minimal_radius: float) -> LoopGeometry:
@@ -469,111 +460,3 @@ def _smallest_clear_depth(excess, r: float, guess: float) -> float:
             if depth > MAX_DEPTH_FACTOR * r:
                 return math.inf
     return clear
-
-
-def mirrored_loop(quarter: BSplineCurve, wale_width: float) -> tuple[BSplineCurve, ...]:
-    """The 4 curves of one loop from the quarter running from the head apex to L.
-
-    Curve 2 is the quarter; curve 1 its mirror image in x = 0 (reversed, from L' to the apex);
-    curve 3 its image under (x, y) -> (w/2 - x, -y) (reversed, from L to the sinker); curve 0
-    the mirror image of curve 3 (from the previous sinker to L').
-    """
-    mirror = np.array([-1.0, 1.0, 1.0])
-    points = quarter.control_points
-    turned = np.column_stack([wale_width / 2 - points[:, 0], -points[:, 1], points[:, 2]])
-    knots = 1.0 - quarter.knots[::-1]
-    return (
-        BSplineCurve(quarter.degree, knots, (turned * mirror)),
-        BSplineCurve(quarter.degree, knots, (points * mirror)[::-1]),
-        quarter,
-        BSplineCurve(quarter.degree, knots, turned[::-1]),
-    )
-
-
-class Condition(NamedTuple):
-    """A linear condition on one coordinate of the quarter: its derivative of order `order` at
-    the parameter `at` equals `value` (mm)."""
-
-    at: float
-    order: int
-    value: float
-
-
-def symmetry_conditions(wale_width: float) -> tuple[tuple[Condition, ...], ...]:
-    """The end conditions (x, y and z, one tuple each) that make the mirrored loop C2.
-
-    At the apex (u = 0, mirror x -> -x) x = 0, x'' = 0, y' = 0, z' = 0; at the leg point
-    (u = 1, symmetry (x, y, z) -> (w/2 - x, -y, z)) x = w/4, y = 0, x'' = y'' = 0, z' = 0
-    (docs/geometry.md derives them).
-    """
-    return (
-        (
-            Condition(0.0, 0, 0.0),
-            Condition(0.0, 2, 0.0),
-            Condition(1.0, 0, wale_width / 4),
-            Condition(1.0, 2, 0.0),
-        ),
-        (Condition(0.0, 1, 0.0), Condition(1.0, 0, 0.0), Condition(1.0, 2, 0.0)),
-        (Condition(0.0, 1, 0.0), Condition(1.0, 1, 0.0)),
-    )
-
-
-def condition_rows(conditions: tuple[Condition, ...]) -> np.ndarray:
-    """The conditions as rows acting on one coordinate of the quarter's control points, (k, 12)."""
-    rows = _basis_rows([condition.at for condition in conditions])
-    orders = [condition.order for condition in conditions]
-    return rows[orders, np.arange(len(conditions))]
-
-
-def _fit_quarter(shape: LoopShape) -> BSplineCurve:
-    """Constrained least-squares fit of the quarter: 12 control points, degree 4.
-
-    The `symmetry_conditions` make the mirrored loop C2. The curve also passes through the
-    widest point W with x' = 0 there, so that the built-in contacts are exactly 2r in the
-    spline as in the analytic model.
-    """
-    sampled = shape.quarter_samples(_fit_fractions())
-    knots = open_knot_vector(DEGREE, CONTROL_POINTS)
-    design = _design_matrix()
-    at, widest = sampled.shoulder_fraction, sampled.shoulder
-    pinned = (
-        (Condition(at, 0, widest[0]), Condition(at, 1, 0.0)),
-        (Condition(at, 0, widest[1]),),
-        (Condition(at, 0, widest[2]),),
-    )
-    control = np.empty((CONTROL_POINTS, 3))
-    n = CONTROL_POINTS
-    for axis, symmetric in enumerate(symmetry_conditions(shape.wale_width)):
-        conditions = symmetric + pinned[axis]
-        k = len(conditions)
-        kkt = np.zeros((n + k, n + k))
-        kkt[:n, :n] = design.T @ design
-        kkt[:n, n:] = condition_rows(conditions).T
-        kkt[n:, :n] = condition_rows(conditions)
-        rhs = np.concatenate(
-            [design.T @ sampled.points[:, axis], [condition.value for condition in conditions]]
-        )
-        control[:, axis] = np.linalg.solve(kkt, rhs)[:n]
-    return BSplineCurve(DEGREE, knots, control)
-
-
-def _fit_fractions() -> np.ndarray:
-    return np.linspace(0.0, 1.0, _FIT_SAMPLES)
-
-
-def _basis_rows(params) -> np.ndarray:
-    """Basis functions of the quarter and their first two derivatives at `params`, dense
-    (3, m, control points)."""
-    knots = open_knot_vector(DEGREE, CONTROL_POINTS)
-    basis = basis_functions(knots, DEGREE, np.asarray(params, dtype=float), 2)
-    rows = np.zeros((3, basis.spans.size, CONTROL_POINTS))
-    columns = basis.spans[:, None] - DEGREE + np.arange(DEGREE + 1)
-    rows[:, np.arange(basis.spans.size)[:, None], columns] = basis.values
-    return rows
-
-
-@cache
-def _design_matrix() -> np.ndarray:
-    """Basis functions of the quarter at the fit samples, (samples, control points)."""
-    knots = open_knot_vector(DEGREE, CONTROL_POINTS)
-    return basis_matrix(knots, DEGREE, _fit_fractions()).toarray()

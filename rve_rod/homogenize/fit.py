@@ -46,6 +46,7 @@ from rve_rod.surface import (
     Spline1D,
     Spline2D,
     energy_surface,
+    tangent_asymmetry,
 )
 
 
@@ -110,7 +111,7 @@ class FitReport(NamedTuple):
 
 def fit_report(surface: ResponseSurface) -> FitReport:
     """Residuals and tangent asymmetry of a fitted surface."""
-    return FitReport(surface.kind, surface.residual_stats(), surface.tangent_asymmetry())
+    return FitReport(surface.kind, surface.residual_stats(), tangent_asymmetry(surface))
 
 
 def knot_vector(values: np.ndarray, degree: int, spans: int) -> np.ndarray:

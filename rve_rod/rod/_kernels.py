@@ -23,6 +23,8 @@ derivative with respect to the 18 local variables; `scatter_jacobian` chains tha
 basis functions and adds it into a CSR data array with a fixed pattern.
 """
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
 
@@ -118,22 +120,38 @@ def _add_cross_columns(a, columns, sign, out):
         out[2, c] += sign * (a[0] * y - a[1] * x)
 
 
-@njit(cache=True)
-def collocation_equations(  # noqa: PLR0917 (numba kernels take positional arrays)
-    kinematics, reference, stiffness, with_jacobian, residual, section, d_residual, d_section
-):
-    """Equilibrium residual and section forces at m collocation points (module docstring).
+class PointEquations(NamedTuple):
+    """Local variables and equation buffers of m collocation points (`collocation_equations`).
 
-    Args:
-        kinematics: (18, m) local variables.
-        reference: (14, m) reference data.
-        stiffness: (6, m) diag(A) (0:3, N) and diag(C) (3:6, N mm^2) at each point.
-        with_jacobian: also fill `d_residual` and `d_section`.
+    Attributes:
+        kinematics: (18, m) local variables (input).
         residual: (7, m) output: force balance (N/mm), moment balance (N), gauge (-).
         section: (6, m) output: n (N) and m (N mm), spatial.
         d_residual: (7, 18, m) output, derivative of `residual` w.r.t. the local variables.
         d_section: (6, 18, m) output, derivative of `section`.
     """
+
+    kinematics: np.ndarray
+    residual: np.ndarray
+    section: np.ndarray
+    d_residual: np.ndarray
+    d_section: np.ndarray
+
+
+@njit(cache=True)
+def collocation_equations(point, reference, stiffness, with_jacobian):
+    """Equilibrium residual and section forces at m collocation points (module docstring).
+
+    Args:
+        point: `PointEquations`: the local variables, and the outputs it receives.
+        reference: (14, m) reference data.
+        stiffness: (6, m) diag(A) (0:3, N) and diag(C) (3:6, N mm^2) at each point.
+        with_jacobian: also fill `d_residual` and `d_section`.
+
+    `rve_rod.rod.strains` is the same residual in plain NumPy.
+    """
+    kinematics, residual, section = point.kinematics, point.residual, point.section
+    d_residual, d_section = point.d_residual, point.d_section
     m_points = kinematics.shape[1]
     rot = np.empty((3, 3))
     d_rot = np.empty((4, 3, 3))

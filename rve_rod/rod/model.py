@@ -178,16 +178,6 @@ class _EndConstant(NamedTuple):
     position_indices: np.ndarray  # (p+1, 3) state indices of the acting control points
 
 
-class _Local(NamedTuple):
-    """Kernel outputs at collocation points (see `_kernels.collocation_equations`)."""
-
-    kinematics: np.ndarray  # (18, m)
-    residual: np.ndarray  # (7, m)
-    section: np.ndarray  # (6, m)
-    d_residual: np.ndarray  # (7, 18, m)
-    d_section: np.ndarray  # (6, 18, m)
-
-
 class _Pattern(NamedTuple):
     """Fixed CSR pattern and the data positions of every contribution."""
 
@@ -565,7 +555,9 @@ class RodModel:
             rows.append(np.concatenate([*end_rows, extra]).astype(np.int64))
         return rows
 
-    def _local_equations(self, state: np.ndarray, with_jacobian: bool, point=None) -> _Local:
+    def _local_equations(
+        self, state: np.ndarray, with_jacobian: bool, point=None
+    ) -> _kernels.PointEquations:
         """Run the kernels at all collocation points, or at the single point `point`."""
         if point is None:
             m = self.n_collocation
@@ -581,7 +573,7 @@ class RodModel:
             reference = np.ascontiguousarray(self._reference[:, window])
             stiffness = np.ascontiguousarray(self._stiffness[:, window])
         m = first.size
-        out = _Local(
+        out = _kernels.PointEquations(
             np.empty((18, m)),
             np.empty((7, m)),
             np.empty((6, m)),
@@ -589,9 +581,7 @@ class RodModel:
             np.zeros((6, 18, m)),
         )
         _kernels.gather_kinematics(np.ascontiguousarray(control), first, basis, out.kinematics)
-        _kernels.collocation_equations(
-            out.kinematics, reference, stiffness, with_jacobian, *out[1:]
-        )
+        _kernels.collocation_equations(out, reference, stiffness, with_jacobian)
         return out
 
     def _end_values(self, point, state, *, kin, section, d_section) -> EndValues:

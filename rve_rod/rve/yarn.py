@@ -17,11 +17,9 @@ from typing import NamedTuple
 from rve_rod.contact import CompressibleYarnLaw, CoulombFriction
 from rve_rod.contact.law import DEFAULT_STIFFNESS_FACTOR
 from rve_rod.errors import InputError, check_positive
+from rve_rod.geometry.loop import adjusted_radius
 from rve_rod.presets import Fabric
 from rve_rod.rod import PAPER_CIRCLE, SOLID_CIRCLE, SectionStiffness
-
-RADIUS_PER_WALE_WIDTH = 1.0 / 8.0
-"""r <= w/8: the largest radius a loop of wale width w holds (four yarn diameters per wale)."""
 
 
 @dataclass(frozen=True)
@@ -72,11 +70,6 @@ class YarnModel(NamedTuple):
     section: SectionStiffness
     law: CompressibleYarnLaw
     friction: CoulombFriction | None
-
-
-def adjusted_radius(minimal_radius: float, wale_width: float) -> float:
-    """r = min(r0, w/8) (mm)."""
-    return min(float(minimal_radius), RADIUS_PER_WALE_WIDTH * float(wale_width))
 
 
 def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnModel:

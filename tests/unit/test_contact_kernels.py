@@ -140,9 +140,10 @@ def test_block_entries_match_a_dense_numpy_assembly(contacts):
     first = rng.integers(0, n_control - degree, size=(3, contacts))
     first[2, ::3] = -1  # some contacts without friction anchor
     basis = rng.normal(size=(4, degree + 1, contacts))
-    size = 9 * 3 * (degree + 1) * contacts
-    rows, columns, values = (np.empty(size, np.int64), np.empty(size, np.int64), np.empty(size))
-    count = _kernels.block_entries(blocks, slave, n_points, first, basis, rows, columns, values)
+    out = _kernels.CooEntries.empty(9 * 3 * (degree + 1) * contacts)
+    chain = _kernels.SpanChain(first, basis)
+    count = _kernels.block_entries(blocks, slave, n_points, chain, out)
+    rows, columns, values = out
     assembled = np.zeros((3 * n_points, 3 * n_control))
     np.add.at(assembled, (rows[:count], columns[:count]), values[:count])
 
@@ -222,19 +223,15 @@ def test_contact_loads_kernel_matches_numpy(exponent, mu, slip_size):
     metric = np.einsum("ck,ck->k", tangent, tangent) * rng.uniform(0.5, 2.0, k)
     w = slip_size * rng.normal(size=(3, k))
     anchored = rng.uniform(size=k) < 0.7
-    outputs = (np.empty((3, k)), np.empty(k), np.empty((4, 3, 3, k)), np.empty(k, np.int8))
-    _kernels.contact_loads(
-        v,
-        tangent,
-        metric,
-        w,
-        anchored,
-        np.array([4.0, exponent, radius]),
-        np.array([mu, 2.0]),
-        *outputs,
+    out = _kernels.LoadOutput(np.empty((3, k)), np.empty((4, 3, 3, k)), np.empty(k, np.int8))
+    g = 2 * radius - np.linalg.norm(v, axis=0)
+    normal_law = np.stack([law.line_load(g), law.line_stiffness(g)])
+    geometry = _kernels.ContactGeometry(v, tangent, metric, w, anchored)
+    _kernels.contact_loads(geometry, normal_law, np.array([mu, 2.0]), out)
+    load, _, blocks, state = reference_contact_loads(
+        v, tangent, metric, w, anchored, law=law, mu=mu, k_t=2.0
     )
-    expected = reference_contact_loads(v, tangent, metric, w, anchored, law=law, mu=mu, k_t=2.0)
-    for actual, reference in zip(outputs, expected, strict=True):
+    for actual, reference in zip(out, (load, blocks, state), strict=True):
         np.testing.assert_allclose(actual, reference, rtol=1e-12, atol=1e-14)
     if mu > 0:  # both paths are exercised: stick for small slips, slip for large ones
-        assert (1 if slip_size < 1e-3 else 2) in set(outputs[3])
+        assert (1 if slip_size < 1e-3 else 2) in set(out.state)

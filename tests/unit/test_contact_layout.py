@@ -2,10 +2,10 @@
 
 import numpy as np
 import pytest
+from contact_scenes import crossed_rods, knit_loop
 
 from rve_rod.contact import Patch, PeriodicLattice, YarnChain
 from rve_rod.contact.layout import build_layout
-from rve_rod.contact.scenes import crossed_rods, knit_loop
 from rve_rod.errors import InputError
 from rve_rod.geometry.bspline import BSplineCurve, basis_functions, open_knot_vector
 

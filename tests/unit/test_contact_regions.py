@@ -7,9 +7,9 @@ maximum and vanishes (a fold).
 
 import numpy as np
 import pytest
+from contact_scenes import wrapped_rods
 
 from rve_rod.contact import CompressibleYarnLaw, ContactModel, ContactOptions
-from rve_rod.contact.scenes import wrapped_rods
 from rve_rod.geometry.bspline import BSplineCurve
 
 LAW = CompressibleYarnLaw(stiffness=10.0, exponent=1.5, yarn_radius=0.2)

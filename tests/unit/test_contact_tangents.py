@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from contact_scenes import knit_loop, wrapped_rods
 
 from rve_rod.contact import (
     CompressibleYarnLaw,
@@ -10,7 +11,6 @@ from rve_rod.contact import (
     Patch,
     YarnChain,
 )
-from rve_rod.contact.scenes import knit_loop, wrapped_rods
 from rve_rod.geometry.bspline import greville_abscissae, open_knot_vector
 
 STEP = 1e-7

@@ -1,9 +1,10 @@
 """Numba kernels against plain NumPy references.
 
-The reference residual follows a different route from the kernel (spatial form
-n' = R' N + R N' with R' = R [k]x, moment balance m' + r' x n, rotation matrix from the
-Rodrigues form) and works on complex numbers, so its derivatives come from the complex step
-(exact to round-off): the kernel's analytic Jacobian is compared with them.
+The reference residual is the library's `rve_rod.rod.strains.collocation_equations`: it follows
+a different route from the kernel (spatial form n' = R' N + R N' with R' = R [k]x, moment
+balance m' + r' x n, rotation matrix from the Rodrigues form) and works on complex numbers, so
+its derivatives come from the complex step (exact to round-off): the kernel's analytic
+Jacobian is compared with them.
 """
 
 import numpy as np
@@ -12,44 +13,7 @@ import scipy.sparse
 
 from rve_rod.geometry.bspline import basis_functions, basis_matrix, open_knot_vector
 from rve_rod.rod import _kernels
-
-
-def skew(a):
-    zero = np.zeros_like(a[0])
-    return np.array([[zero, -a[2], a[1]], [a[2], zero, -a[0]], [-a[1], a[0], zero]])
-
-
-def reference_equations(kinematics, reference, stiffness):
-    """(residual (7, m), section (6, m)) in plain NumPy, complex-safe."""
-    ru, ruu = kinematics[0:3], kinematics[3:6]
-    q, qd, qdd = kinematics[6:10], kinematics[10:14], kinematics[14:18]
-    g0, g0u, k0, k0u = reference[0:3], reference[3:6], reference[6:9], reference[9:12]
-    jac, jac_u = reference[12], reference[13]
-    s = np.sum(q * q, axis=0)
-    c = np.sum(q * qd, axis=0)
-    vx = skew(q[1:])
-    rot = np.eye(3)[:, :, None] + 2.0 / s * (q[0] * vx + np.einsum("ijm,jkm->ikm", vx, vx))
-    w = q[0] * qd[1:] - qd[0] * q[1:] - np.cross(q[1:], qd[1:], axis=0)
-    k = 2.0 * w / s
-    w_u = q[0] * qdd[1:] - qdd[0] * q[1:] - np.cross(q[1:], qdd[1:], axis=0)
-    k_u = 2.0 * w_u / s - 2.0 * c * k / s
-    rot_u = np.einsum("ijm,jkm->ikm", rot, skew(k))
-    gam = np.einsum("jim,jm->im", rot, ru)
-    gam_u = np.einsum("jim,jm->im", rot_u, ru) + np.einsum("jim,jm->im", rot, ruu)
-    strain = (gam - g0) / jac
-    strain_u = (gam_u - g0u) / jac - (gam - g0) * jac_u / jac**2
-    bend = (k - k0) / jac
-    bend_u = (k_u - k0u) / jac - (k - k0) * jac_u / jac**2
-    big_n, big_nu = stiffness[:3] * strain, stiffness[:3] * strain_u
-    big_m, big_mu = stiffness[3:] * bend, stiffness[3:] * bend_u
-    n = np.einsum("ijm,jm->im", rot, big_n)
-    m = np.einsum("ijm,jm->im", rot, big_m)
-    n_u = np.einsum("ijm,jm->im", rot_u, big_n) + np.einsum("ijm,jm->im", rot, big_nu)
-    m_u = np.einsum("ijm,jm->im", rot_u, big_m) + np.einsum("ijm,jm->im", rot, big_mu)
-    residual = np.concatenate(
-        [n_u / jac, (m_u + np.cross(ru, n, axis=0)) / jac, (s - 1.0)[None]], axis=0
-    )
-    return residual, np.concatenate([n, m], axis=0)
+from rve_rod.rod.strains import collocation_equations as reference_equations
 
 
 def random_point_data(seed, m=7):
@@ -66,9 +30,11 @@ def random_point_data(seed, m=7):
 
 def kernel_equations(kinematics, reference, stiffness, with_jacobian=True):
     m = kinematics.shape[1]
-    out = (np.empty((7, m)), np.empty((6, m)), np.zeros((7, 18, m)), np.zeros((6, 18, m)))
-    _kernels.collocation_equations(kinematics, reference, stiffness, with_jacobian, *out)
-    return out
+    out = _kernels.PointEquations(
+        kinematics, np.empty((7, m)), np.empty((6, m)), np.zeros((7, 18, m)), np.zeros((6, 18, m))
+    )
+    _kernels.collocation_equations(out, reference, stiffness, with_jacobian)
+    return out[1:]
 
 
 @pytest.mark.parametrize("seed", range(6))

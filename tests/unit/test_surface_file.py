@@ -9,7 +9,6 @@ import h5py
 import numpy as np
 import pytest
 
-from rve_rod import surface as surface_module
 from rve_rod.errors import InputError
 from rve_rod.geometry.bspline import open_knot_vector
 from rve_rod.surface import (
@@ -22,6 +21,7 @@ from rve_rod.surface import (
     read_surface,
     write_surface,
 )
+from rve_rod.surface import hdf5 as surface_file
 
 RNG = np.random.default_rng(3)
 DOMAIN = ((-0.1, 0.2), (-0.05, 0.25))
@@ -204,7 +204,7 @@ def test_exception_while_writing_leaves_old_file_and_no_temporary(tmp_path, monk
     def failing_group(group, name, spline, samples):
         raise RuntimeError("disk full")
 
-    monkeypatch.setattr(surface_module, "_write_group", failing_group)
+    monkeypatch.setattr(surface_file, "_write_group", failing_group)
     with pytest.raises(RuntimeError, match="disk full"):
         write_surface(path, stress_surface())
     assert path.read_bytes() == before
@@ -222,15 +222,16 @@ def test_writer_killed_midway_leaves_no_final_file(tmp_path):
         import numpy as np
         from rve_rod import surface
         from rve_rod.geometry.bspline import open_knot_vector
+        from rve_rod.surface import hdf5
 
-        original = surface._write_group
+        original = hdf5._write_group
 
         def write_then_die(group, name, spline, samples):
             original(group, name, spline, samples)
             group.file.flush()
             os.kill(os.getpid(), signal.SIGKILL)
 
-        surface._write_group = write_then_die
+        hdf5._write_group = write_then_die
         knots = open_knot_vector(2, 5, (0.0, 0.2))
         s11 = surface.Spline2D((2, 2), (knots, knots), np.ones((5, 5)))
         s12 = surface.Spline1D(2, open_knot_vector(2, 5, (-0.3, 0.3)), np.zeros(5))

@@ -12,9 +12,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fabric_dolfinx.tension import homogeneous_response
 from knitmech.scene import default_surface_path
-from rve_rod.surface import read_surface
+from rve_rod.surface import homogeneous_response, read_surface
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
 DEMOS = Path(__file__).resolve().parents[2] / "demos"

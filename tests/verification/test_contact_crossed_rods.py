@@ -5,9 +5,10 @@ continuum two-pass model predicts."""
 import numpy as np
 import pytest
 import scipy.integrate
+from contact_scenes import crossed_rods
 
 from rve_rod.contact import CompressibleYarnLaw, ContactModel, Patch, YarnChain
-from rve_rod.contact.scenes import crossed_rods
+from rve_rod.contact import _kernels as contact_kernels
 from rve_rod.geometry.bspline import greville_abscissae, interpolate, open_knot_vector
 
 RADIUS = 0.15
@@ -123,3 +124,45 @@ def test_two_pass_imbalance_of_a_wrapped_rod_is_the_continuum_one(bend_radius):
     assert total_1 == pytest.approx(expected_1, rel=2e-3)
     imbalance = abs(total_0 + total_1) / total_0
     assert imbalance == pytest.approx(1 / np.sqrt(1 - separation / bend_radius) - 1, rel=0.15)
+
+
+def crossing_point_load(law, penetration):
+    """Line load (3,) at rod 0's middle collocation point, right above the crossing (41 Greville
+    points: the middle one is at s = 0, where d = separation), and the Jacobian row sum of its
+    z component over rod 0's z coordinates (d f_z / d z of a rigid lift of rod 0)."""
+    scene = crossed_rods(2 * RADIUS - penetration, n_control_points=41)
+    model = ContactModel(scene.patches, scene.positions, law, yarns=scene.yarns)
+    result = model.evaluate(scene.positions)
+    m = model.n_collocation_points
+    jacobian = result.jacobian.tocsr()
+    return result.line_load[:, 20], jacobian[2 * m + 20, 2 : 3 * 41 : 3].sum()
+
+
+@pytest.mark.parametrize(("stiffness", "exponent"), [(5.0, 1.0), (5.0, 2.4), (20.0, 1.5)])
+def test_the_law_object_sets_the_force_of_a_run(stiffness, exponent):
+    # f_n = k (r/p) (g/r)^p and df_n/dg = k (g/r)^(p-1), written out here (not law.py's code);
+    # a lift of rod 0 opens the gap: d f_z / d z = -df_n/dg.
+    penetration = 0.03
+    law = CompressibleYarnLaw(stiffness=stiffness, exponent=exponent, yarn_radius=RADIUS)
+    load, lift_stiffness = crossing_point_load(law, penetration)
+    expected = stiffness * (RADIUS / exponent) * (penetration / RADIUS) ** exponent
+    np.testing.assert_allclose(load, [0.0, 0.0, expected], rtol=1e-12, atol=1e-15)
+    slope = stiffness * (penetration / RADIUS) ** (exponent - 1.0)
+    assert lift_stiffness == pytest.approx(-slope, rel=1e-10)
+
+
+def test_a_run_evaluates_the_one_law_function(monkeypatch):
+    # Substitute the law's one function (law.py's CompressibleYarnLaw.load_and_slope calls it)
+    # by a linear penalty f_n = 7 g (N/mm): the run follows, so no copy of the formula runs.
+    def linear_penalty(penetration, parameters, out):
+        out[0] = 7.0 * np.maximum(penetration, 0.0)
+        out[1] = np.where(penetration > 0.0, 7.0, 0.0)
+
+    penetration = 0.03
+    law = CompressibleYarnLaw(stiffness=5.0, exponent=2.4, yarn_radius=RADIUS)
+    original, _ = crossing_point_load(law, penetration)
+    monkeypatch.setattr(contact_kernels, "compressible_yarn_law", linear_penalty)
+    load, lift_stiffness = crossing_point_load(law, penetration)
+    assert abs(original[2] - 7.0 * penetration) > 0.1 * original[2]
+    np.testing.assert_allclose(load, [0.0, 0.0, 7.0 * penetration], rtol=1e-12, atol=1e-15)
+    assert lift_stiffness == pytest.approx(-7.0, rel=1e-10)

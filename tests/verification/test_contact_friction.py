@@ -3,9 +3,9 @@ commit semantics of the history, and friction switched off entirely at mu = 0.""
 
 import numpy as np
 import pytest
+from contact_scenes import crossed_rods
 
 from rve_rod.contact import CompressibleYarnLaw, ContactModel, CoulombFriction
-from rve_rod.contact.scenes import crossed_rods
 from rve_rod.errors import InputError
 
 RADIUS = 0.15

@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 import scipy.sparse
 import scipy.sparse.linalg
+from contact_scenes import crossed_rods, wrapped_rods
 
 from rve_rod.contact import CompressibleYarnLaw, ContactModel, CoulombFriction
-from rve_rod.contact.scenes import crossed_rods, wrapped_rods
 from rve_rod.geometry.bspline import basis_matrix
 
 N = 30

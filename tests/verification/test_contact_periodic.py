@@ -8,6 +8,7 @@ at F = I, the yarns only touch).
 
 import numpy as np
 import pytest
+from contact_scenes import knit_loop
 
 from rve_rod.contact import (
     CompressibleYarnLaw,
@@ -17,7 +18,6 @@ from rve_rod.contact import (
     YarnChain,
 )
 from rve_rod.contact.closest_point import project
-from rve_rod.contact.scenes import knit_loop
 
 COMPRESSION = np.diag([0.95, 0.95, 1.0])
 SHEAR = np.array([[0.97, 0.1, 0.0], [0.08, 0.96, 0.0], [0.0, 0.0, 1.0]])

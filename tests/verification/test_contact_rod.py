@@ -8,9 +8,9 @@ control-point positions, the Jacobian columns 3 i + c map to the rod's state ind
 import numpy as np
 import pytest
 import scipy.sparse
+from contact_scenes import crossed_rods
 
 from rve_rod.contact import CompressibleYarnLaw, ContactModel, CoulombFriction
-from rve_rod.contact.scenes import crossed_rods
 from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.newton import solve_path
 from rve_rod.rod import (

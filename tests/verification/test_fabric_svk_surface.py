@@ -7,9 +7,9 @@ import pytest
 
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import TensionSetup, homogeneous_response
+from fabric_dolfinx.tension import TensionSetup
 from fabric_dolfinx.tension_spec import TensionTest
-from rve_rod.surface import ResponseSurface, Spline1D, Spline2D
+from rve_rod.surface import ResponseSurface, Spline1D, Spline2D, homogeneous_response
 
 SVK = OrthotropicSVK(
     course_stiffness=1.0, wale_stiffness=0.5, poissons_ratio=0.3, shear_stiffness=0.2

@@ -1,4 +1,7 @@
-"""Small contact scenes for verification and benchmarks: crossed rods and the knit's loop cell."""
+"""Small contact scenes for the tests and benchmarks: crossed rods, wrapped rods, the loop cell.
+
+Benchmarks import it with tests/ on sys.path (as pytest does for the tests).
+"""
 
 from typing import NamedTuple
 

@@ -3,8 +3,8 @@ state, also when a fitted surface turns over far outside its data."""
 
 import pytest
 
-from fabric_dolfinx.tension import _free_lateral_strain
 from rve_rod.errors import InputError
+from rve_rod.surface.checks import _free_lateral_strain
 
 
 @pytest.mark.parametrize(

@@ -1,0 +1,136 @@
+"""The loop's B-spline: the constrained least-squares fit of the quarter and its mirroring.
+
+The quarter of the analytic loop (`rve_rod.geometry.loop.LoopShape`) is fitted by a degree-4
+B-spline with 12 control points (least squares in arc length, with the end conditions that make
+the mirrored loop C2, and the widest point W pinned) and mirrored by the loop's two symmetries,
+x -> -x (about the head apex) and (x, y) -> (w/2 - x, -y) (about the leg point L), into the 4
+curves of one loop from sinker to sinker (docs/geometry.md derives the conditions).
+"""
+
+from functools import cache
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+
+from rve_rod.geometry.bspline import BSplineCurve, basis_functions, basis_matrix, open_knot_vector
+
+if TYPE_CHECKING:
+    from rve_rod.geometry.loop import LoopShape
+
+DEGREE = 4
+"""Degree of the loop curves (the paper's geometry)."""
+CONTROL_POINTS = 12
+"""Control points of each quarter curve before refinement."""
+_FIT_SAMPLES = 121
+
+
+def mirrored_loop(quarter: BSplineCurve, wale_width: float) -> tuple[BSplineCurve, ...]:
+    """The 4 curves of one loop from the quarter running from the head apex to L.
+
+    Curve 2 is the quarter; curve 1 its mirror image in x = 0 (reversed, from L' to the apex);
+    curve 3 its image under (x, y) -> (w/2 - x, -y) (reversed, from L to the sinker); curve 0
+    the mirror image of curve 3 (from the previous sinker to L').
+    """
+    mirror = np.array([-1.0, 1.0, 1.0])
+    points = quarter.control_points
+    turned = np.column_stack([wale_width / 2 - points[:, 0], -points[:, 1], points[:, 2]])
+    knots = 1.0 - quarter.knots[::-1]
+    return (
+        BSplineCurve(quarter.degree, knots, (turned * mirror)),
+        BSplineCurve(quarter.degree, knots, (points * mirror)[::-1]),
+        quarter,
+        BSplineCurve(quarter.degree, knots, turned[::-1]),
+    )
+
+
+class SymmetryCondition(NamedTuple):
+    """A linear condition on one coordinate of the quarter: its derivative of order `order` at
+    the parameter `at` equals `value` (mm)."""
+
+    at: float
+    order: int
+    value: float
+
+
+def symmetry_conditions(wale_width: float) -> tuple[tuple[SymmetryCondition, ...], ...]:
+    """The end conditions (x, y and z, one tuple each) that make the mirrored loop C2.
+
+    At the apex (u = 0, mirror x -> -x) x = 0, x'' = 0, y' = 0, z' = 0; at the leg point
+    (u = 1, symmetry (x, y, z) -> (w/2 - x, -y, z)) x = w/4, y = 0, x'' = y'' = 0, z' = 0
+    (docs/geometry.md derives them).
+    """
+    return (
+        (
+            SymmetryCondition(0.0, 0, 0.0),
+            SymmetryCondition(0.0, 2, 0.0),
+            SymmetryCondition(1.0, 0, wale_width / 4),
+            SymmetryCondition(1.0, 2, 0.0),
+        ),
+        (
+            SymmetryCondition(0.0, 1, 0.0),
+            SymmetryCondition(1.0, 0, 0.0),
+            SymmetryCondition(1.0, 2, 0.0),
+        ),
+        (SymmetryCondition(0.0, 1, 0.0), SymmetryCondition(1.0, 1, 0.0)),
+    )
+
+
+def condition_rows(conditions: tuple[SymmetryCondition, ...]) -> np.ndarray:
+    """The conditions as rows acting on one coordinate of the quarter's control points, (k, 12)."""
+    rows = _basis_rows([condition.at for condition in conditions])
+    orders = [condition.order for condition in conditions]
+    return rows[orders, np.arange(len(conditions))]
+
+
+def fit_quarter(shape: "LoopShape") -> BSplineCurve:
+    """Constrained least-squares fit of the quarter: 12 control points, degree 4.
+
+    The `symmetry_conditions` make the mirrored loop C2. The curve also passes through the
+    widest point W with x' = 0 there, so that the built-in contacts are exactly 2r in the
+    spline as in the analytic model.
+    """
+    sampled = shape.quarter_samples(_fit_fractions())
+    knots = open_knot_vector(DEGREE, CONTROL_POINTS)
+    design = _design_matrix()
+    at, widest = sampled.shoulder_fraction, sampled.shoulder
+    pinned = (
+        (SymmetryCondition(at, 0, widest[0]), SymmetryCondition(at, 1, 0.0)),
+        (SymmetryCondition(at, 0, widest[1]),),
+        (SymmetryCondition(at, 0, widest[2]),),
+    )
+    control = np.empty((CONTROL_POINTS, 3))
+    n = CONTROL_POINTS
+    for axis, symmetric in enumerate(symmetry_conditions(shape.wale_width)):
+        conditions = symmetric + pinned[axis]
+        k = len(conditions)
+        kkt = np.zeros((n + k, n + k))
+        kkt[:n, :n] = design.T @ design
+        kkt[:n, n:] = condition_rows(conditions).T
+        kkt[n:, :n] = condition_rows(conditions)
+        rhs = np.concatenate(
+            [design.T @ sampled.points[:, axis], [condition.value for condition in conditions]]
+        )
+        control[:, axis] = np.linalg.solve(kkt, rhs)[:n]
+    return BSplineCurve(DEGREE, knots, control)
+
+
+def _fit_fractions() -> np.ndarray:
+    return np.linspace(0.0, 1.0, _FIT_SAMPLES)
+
+
+def _basis_rows(params) -> np.ndarray:
+    """Basis functions of the quarter and their first two derivatives at `params`, dense
+    (3, m, control points)."""
+    knots = open_knot_vector(DEGREE, CONTROL_POINTS)
+    basis = basis_functions(knots, DEGREE, np.asarray(params, dtype=float), 2)
+    rows = np.zeros((3, basis.spans.size, CONTROL_POINTS))
+    columns = basis.spans[:, None] - DEGREE + np.arange(DEGREE + 1)
+    rows[:, np.arange(basis.spans.size)[:, None], columns] = basis.values
+    return rows
+
+
+@cache
+def _design_matrix() -> np.ndarray:
+    """Basis functions of the quarter at the fit samples, (samples, control points)."""
+    knots = open_knot_vector(DEGREE, CONTROL_POINTS)
+    return basis_matrix(knots, DEGREE, _fit_fractions()).toarray()
