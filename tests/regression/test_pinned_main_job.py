@@ -8,6 +8,7 @@ from pins import assert_pinned
 
 from knitmech.pipeline import run_scene
 from knitmech.scene import load_scene
+from knitmech.stage_cache import COMPUTED
 
 
 @pytest.fixture(scope="module")
@@ -28,6 +29,9 @@ def value_at(strains, values, strain):
 @pytest.mark.slow
 def test_main_job_patch_forces_poisson_ratios_and_fit_residuals_are_pinned(summary):
     assert summary["fidelity"]["name"] == "fast"
+    # computed now, nothing taken from a cache (a stale one would pin old results)
+    assert {stage["status"] for stage in summary["stages"]} == {COMPUTED}
+    assert summary["surface"]["runs_cached"] == 0 < summary["surface"]["runs_computed"]
     forces, ratios = summary["forces"], summary["poisson_ratios"]
     measured = {}
     for direction, name in (("course", "nu12"), ("wale", "nu21")):
