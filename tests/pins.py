@@ -20,14 +20,16 @@ computes it, and copied with all its digits.
 
 Tolerances. Every run is deterministic; what can differ between machines is round-off (numba,
 BLAS, SuperLU/MUMPS ordering), which Newton converges away to its tolerance (1e-10 relative in
-the RVE, below 1e-8 in the membrane), and, in the RVE, a cutback taken or not at a step whose
-iteration count sits at a threshold, which changes a path-dependent (friction) result by about
-1e-5 (a path of 11 instead of 9 states moves the forces by 1e-5). A stiffness changed by 1 %
-moves these numbers by 0.3 % or more (docs/validation.md, "Regression pins": the yarn's
-rotational modulus factor, the weakest of the three stiffnesses, moves the RVE forces by
-0.27-0.34 % and the Poisson ratios by 0.6-0.7 %). Hence rtol = 1e-3 for everything that
-comes out of a Newton solve, and 1e-5 for numbers without a load path (loop lengths, from
-searches whose brackets close to 1e-5 r; the photo measurement, FFT and least squares).
+the RVE, below 1e-8 in the membrane). The load path itself does not change: the RVE runs
+pinned here take no cutback (every step converges in 3-10 iterations of at most 25), so
+round-off cannot switch them to another path (which would matter: with friction the results
+depend on the path; 11 instead of 9 states moves the forces by 1e-5-1e-4 and nu12 by 2e-3).
+A stiffness changed by 1 % moves these numbers by 0.16 % or more, most by 0.25-1 %
+(docs/validation.md, "Regression pins": the yarn's rotational modulus factor, the weakest of
+the three stiffnesses tried, moves the RVE forces by 0.16-0.61 % and the Poisson ratios by
+0.6-1.1 %). Hence rtol = 1e-3 for everything that comes out of a Newton solve, and 1e-5 for
+numbers without a load path (loop lengths, from searches whose brackets close to 1e-5 r; the
+photo measurement, FFT and least squares).
 """
 
 from collections.abc import Mapping
@@ -159,7 +161,7 @@ LOOP_LENGTHS = {
 # at 25 px/mm, turned by 8 degrees, blur 0.04 mm, noise 0.1 (seed 0), lighting 0.4; written as
 # an 8-bit PNG and read back) measured with `measure_photo`: w and c in mm, the angle in
 # degrees. Within 0.02 % (w, c) and 0.004 degrees of the truth; pinned 20 times tighter.
-PHOTO = "demos/demo_measure_photo.py output, docs/imaging.md (typical photo, accuracy)"
+PHOTO = PINS_DOC + ", the demo's output"
 IMAGING = {
     "wale width": Pin(1.3298351038267375, 1e-5, PHOTO),
     "course height": Pin(1.259882571176629, 1e-5, PHOTO),
@@ -169,7 +171,7 @@ IMAGING = {
 # One physical number per fabric demo, on the shipped surface (a remade surface moves them):
 # the patch's course-wise force at 20 % (gf/cm) of `demo_patch_tension.py --elements 4` (20
 # steps), and the force at 10 % (gf/cm) of `demo_parallel.py --elements 12` (5 steps).
-DEMO = "docs/fabric.md (demos)"
+DEMO = PINS_DOC
 DEMOS = {
     "patch tension course force 20 %": Pin(27.900696790898966, SOLVED, DEMO),
     "parallel course force 10 %": Pin(11.0190159033, SOLVED, DEMO),
