@@ -1,6 +1,6 @@
 """Every demo runs serially and under `mpirun -n 2` (small sizes) and pins its key numbers:
 the patch forces between the material's uniaxial and strip-biaxial responses, equal on 1 and
-2 ranks."""
+2 ranks, and one force per demo pinned (tests/pins.py, DEMOS)."""
 
 import json
 import os
@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from pins import assert_pinned
 
 from knitmech.scene import default_surface_path
 from rve_rod.surface import homogeneous_response, read_surface
@@ -71,6 +72,15 @@ def test_demo_patch_tension_writes_figures_and_bounded_forces(patch_tension_runs
 
 @pytest.mark.slow
 @pytest.mark.mpi
+def test_demo_patch_tension_course_force_at_20_percent_is_pinned(patch_tension_runs):
+    summary = patch_tension_runs[1][1]
+    assert summary["elements"] == 4 and summary["strain"][-1] == pytest.approx(0.2)
+    force = summary["course_force_gf_per_cm"][-1]
+    assert_pinned("DEMOS", {"patch tension course force 20 %": force})
+
+
+@pytest.mark.slow
+@pytest.mark.mpi
 def test_demo_patch_tension_serial_equals_two_ranks(patch_tension_runs):
     serial, parallel = patch_tension_runs[1][1], patch_tension_runs[2][1]
     for direction in ("course", "wale"):
@@ -94,3 +104,4 @@ def test_demo_parallel_serial_equals_two_ranks(tmp_path):
     assert values[0]["dofs"] == values[1]["dofs"] == str(2 * 13 * 13)
     assert values[1]["force"] == pytest.approx(values[0]["force"], rel=1e-8)
     assert "Newton iterations: " in outputs[1]
+    assert_pinned("DEMOS", {"parallel course force 10 %": values[0]["force"]})

@@ -4,11 +4,13 @@ The reference data has no force-strain numbers, only the fabrics; the paper's fi
 the model must reproduce are trends: course-wise force falls as the loop length grows (looser
 knits), wale-wise curves stiffen with strain, and the Poisson ratios at 20 % are those of a
 knit (positive, lateral contraction). Runs at the default (the paper's) resolution, 68 control
-points per quarter and 1 % steps; docs/validation.md has the tables.
+points per quarter and 1 % steps; docs/validation.md has the tables, whose numbers are pinned
+(tests/pins.py, RVE_PAPER_RESOLUTION): a drift that keeps the trends fails here.
 """
 
 import numpy as np
 import pytest
+from pins import assert_pinned
 
 from rve_rod.errors import ConvergenceError
 from rve_rod.presets import load_preset, stitch_values
@@ -56,16 +58,36 @@ def test_wale_wise_curves_stiffen_with_strain(cotton_runs):
 def test_poisson_ratios_at_20_percent_for_stitch_5_5_are_those_of_a_knit(cotton_runs):
     nu12 = cotton_runs[5.5, "uniaxial-course"].poisson_ratio
     nu21 = cotton_runs[5.5, "uniaxial-wale"].poisson_ratio
-    assert 0.0 < nu12 < 2.0 and 0.0 < nu21 < 2.0, (nu12, nu21)
+    # lateral contraction, stronger when pulled wale-wise: so in the paper's tests (0.41 and
+    # 0.72) and in its RVE (0.43 and 0.82); the values are pinned below
+    assert 0.0 < nu12 < nu21, (nu12, nu21)
+
+
+def test_forces_and_poisson_ratios_at_20_percent_are_pinned(cotton_runs):
+    measured = {}
+    for stitch in stitch_values("cotton-20s2"):
+        for direction, name in (("course", "nu12"), ("wale", "nu21")):
+            result = cotton_runs[stitch, f"uniaxial-{direction}"]
+            assert result.steps[-1].strain == pytest.approx(0.2)
+            key = f"cotton {stitch:.1f}"
+            measured[f"{key} {direction} force 20 %"] = result.steps[-1].force_gf_per_cm
+            measured[f"{key} {name} 20 %"] = result.poisson_ratio
+    assert_pinned("RVE_PAPER_RESOLUTION", measured)
 
 
 def test_vassiliadis_sample_2_in_strip_biaxial_tension():
     fabric = load_preset("vassiliadis-sample2")
+    measured = {}
     for name in ("strip-biaxial-course", "strip-biaxial-wale"):
         result = simulate(fabric, load_case(name), SETTINGS)
         force = result.series("force_gf_per_cm")
         assert result.complete and result.series("contacts_at_cut").max() == 0
         assert np.all(np.diff(force[1:]) > 0)  # tension grows with strain
+        strain = result.series("strain")
+        assert (strain[10], strain[20]) == pytest.approx((0.1, 0.2))
+        measured[f"vassiliadis {name} force 10 %"] = force[10]
+        measured[f"vassiliadis {name} force 20 %"] = force[20]
+    assert_pinned("RVE_PAPER_RESOLUTION", measured)
 
 
 def test_wale_wise_stretch_stops_at_the_penetration_limit_instead_of_passing_through():

@@ -1,0 +1,41 @@
+"""Regression pins of the RVE (tests/pins.py, RVE_FAST): uniaxial forces at 10 and 20 % and the
+effective Poisson ratios at 20 %, course- and wale-wise, for cotton 20s/2 at stitch 5.5 at the
+fast level's settings (20 control points per quarter loop, 2.5 % steps; about 1 s a run).
+
+`simulate` keeps no cache on disk (only the loop geometry is memoized, in memory), so these
+runs are computed afresh in every session.
+"""
+
+import pytest
+from pins import assert_pinned
+
+from rve_rod.presets import load_preset
+from rve_rod.rve.cell import CellSettings
+from rve_rod.rve.load_cases import load_case
+from rve_rod.rve.simulation import RveSettings, simulate
+
+FAST = RveSettings(cell=CellSettings(control_points=20))  # knitmech's fast level
+STATES = 9  # 0-20 % in 2.5 % steps: 10 % is state 4, 20 % state 8
+
+
+@pytest.fixture(scope="module")
+def runs():
+    fabric = load_preset("cotton-20s2", 5.5)
+    return {
+        direction: simulate(fabric, load_case(f"uniaxial-{direction}", 0.2, STATES), FAST)
+        for direction in ("course", "wale")
+    }
+
+
+def test_rve_forces_and_poisson_ratios_of_cotton_5_5_are_pinned(runs):
+    measured = {}
+    for direction, name in (("course", "nu12"), ("wale", "nu21")):
+        result = runs[direction]
+        assert result.complete
+        strain = result.series("strain")
+        force = result.series("force_gf_per_cm")
+        assert (strain[4], strain[8]) == pytest.approx((0.1, 0.2), abs=1e-15)
+        measured[f"{direction} force 10 %"] = force[4]
+        measured[f"{direction} force 20 %"] = force[8]
+        measured[f"{name} 20 %"] = result.poisson_ratio
+    assert_pinned("RVE_FAST", measured)
