@@ -25,7 +25,6 @@ from rve_rod.geometry.loop import loop_geometry
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings, LoopCell
 from rve_rod.rve.load_cases import load_case
-from rve_rod.rve.macro import image_weights
 from rve_rod.rve.simulation import RveResult, RveSettings, run_cell
 from rve_rod.rve.yarn import YarnSettings, yarn_model
 from rve_rod.units import n_per_mm_to_gf_per_cm
@@ -53,20 +52,6 @@ def contacts_of(result: RveResult, cell: LoopCell, step: int):
     F = np.eye(3)
     F[:2, :2] = result.steps[step].deformation
     return cell.coupling.contact.evaluate(result.centrelines[step], F, tangent=False)
-
-
-def stress_split(result: RveResult, cell: LoopCell) -> dict[str, np.ndarray]:
-    """P at the last state split into cut, normal-contact and friction parts (gf/cm)."""
-    evaluation = contacts_of(result, cell, len(result.steps) - 1)
-    contacts = evaluation.contacts
-    parts = {"normal": np.zeros((2, 2)), "friction": np.zeros((2, 2))}
-    for b in range(2):
-        weights, _ = image_weights(cell.coupling, evaluation, b)
-        parts["normal"][:, b] = (contacts.normal_load * contacts.normal)[:2] @ weights
-        parts["friction"][:, b] = contacts.friction_load[:2] @ weights
-    total = result.steps[-1].first_piola
-    parts["cut"] = total - parts["normal"] - parts["friction"]
-    return {name: n_per_mm_to_gf_per_cm(value) for name, value in parts.items()}
 
 
 def draw(axes, result: RveResult, cell: LoopCell, title: str) -> None:
@@ -145,16 +130,15 @@ def main() -> None:
         + [figure.add_subplot(grid[2 * k + m, 1]) for m in (0, 1)]
         for k in range(2)
     ]
-    print("| case | nu | lateral P: cut | normal contact | friction | (gf/cm) |")
-    print("|---|---:|---:|---:|---:|---|")
+    print("| case | nu | lateral P (gf/cm): cut | normal contact | friction |")
+    print("|---|---:|---:|---:|---:|")
     for row, name in zip(axes, CASES, strict=True):
         result, cell = run(name, settings, fabric)
         draw(row, result, cell, name)
-        split = stress_split(result, cell)
-        lateral = (1, 1) if name == "uniaxial-course" else (0, 0)
+        a = 1 if name == "uniaxial-course" else 0
+        cut, normal, friction = n_per_mm_to_gf_per_cm(result.steps[-1].stress_parts[:, a, a])
         print(
-            f"| {name} | {result.poisson_ratio:.3f} | {split['cut'][lateral]:.3g} | "
-            f"{split['normal'][lateral]:.3g} | {split['friction'][lateral]:.3g} | |"
+            f"| {name} | {result.poisson_ratio:.3f} | {cut:.3g} | {normal:.3g} | {friction:.3g} |"
         )
     label = "frictionless" if args.frictionless else "mu = 0.15"
     figure.suptitle(f"cotton 20s/2 stitch 5.5, {label}: unloaded (dashed) and at 20 %")
