@@ -82,9 +82,10 @@ def test_the_yarn_through_the_cut_resists_the_wale_wise_narrowing(runs):
         assert normal > 0.05 * force  # the interlocks with the diagonal images pull inwards
         assert cut + normal + friction == pytest.approx(0.0, abs=1e-4 * force)
     # Friction adds to the resistance, but the bending of the yarn holds most of it.
-    assert runs["uniaxial-wale", "frictionless"].poisson_ratio < 1.5 * runs[
-        "uniaxial-wale", "friction"
-    ].poisson_ratio
+    assert (
+        runs["uniaxial-wale", "frictionless"].poisson_ratio
+        < 1.5 * runs["uniaxial-wale", "friction"].poisson_ratio
+    )
 
 
 # Measured with version 0.2.1 (docs/validation.md, sensitivity table, first row).
@@ -98,7 +99,8 @@ PINNED = {
 def test_poisson_ratio_and_forces_are_pinned(runs, name):
     result = runs[name, "friction"]
     assert result.complete
-    force = dict(zip(np.round(result.series("strain"), 6), result.series("force_gf_per_cm")))
+    strains = np.round(result.series("strain"), 6)
+    force = dict(zip(strains, result.series("force_gf_per_cm"), strict=True))
     pinned = PINNED[name]
     assert force[0.1] == pytest.approx(pinned["force_10"], rel=2e-3)
     assert force[0.2] == pytest.approx(pinned["force_20"], rel=2e-3)
