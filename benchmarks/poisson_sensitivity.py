@@ -21,6 +21,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from rve_rod import __version__
 from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.loop import LoopShape, loop_geometry, single_jersey_loop
 from rve_rod.presets import Fabric, load_preset
@@ -97,7 +98,7 @@ def deeper(factor: float) -> Callable[[Fabric], list]:
 
 
 VARIANTS = (
-    Variant("default (0.2.1)", "-"),
+    Variant(f"default ({__version__})", "-"),
     Variant("friction coefficient mu", "0 (frictionless)", with_friction(0.0)),
     Variant("friction coefficient mu", "0.3", with_friction(0.3)),
     Variant("stick stiffness k_t / k", "0.1", yarn_settings={"friction_stiffness_ratio": 0.1}),
