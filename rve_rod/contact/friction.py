@@ -2,16 +2,10 @@
 
 Every slave point that was within the detection radius of a master at the last converged
 (committed) state keeps an anchor: the master material point (span, tau, lattice image) it was
-closest to, the master's unit tangent t there, and the offset o from that point at which it
-sticks, o = v - g_e (v = x_s - x_m, g_e the elastic slip left by the return mapping). During the
-next step the slip of the slave point is the tangential part of w = x_s - x_a - R o, where x_a
-is the anchor's current position and R the minimal rotation from t to the master's current
-tangent at the anchor (`rve_rod.contact.transport`): the motion of the slave point relative
-to the master's material point since the last commit, seen in a frame that turns with the
-master. A pair that turns rigidly about an axis normal to the master's tangent therefore does
-not slip (before version 0.3 the offset did not turn, and such a turn by theta read as a slip
-of about d theta; docs/validation.md, "Why the knit contracts too little"); a twist of the pair
-about the master's own axis still does.
+closest to and the offset o from that point at which it sticks, o = v - g_e (v = x_s - x_m,
+g_e the elastic slip left by the return mapping). During the next step the slip of the slave
+point is the tangential part of w = x_s - x_a - o, where x_a is the anchor's current position:
+the motion of the slave point relative to the master's material point since the last commit.
 A current contact finds its anchor by slave point, strand (the endless yarn through the
 lattice images) and nearest unwrapped arc coordinate along it.
 """
@@ -33,7 +27,6 @@ class FrictionHistory(NamedTuple):
         span: (h,) master span of the anchor; tau: (h,) its local parameter.
         image: (h, 2) lattice image of the anchor's master.
         offset: (3, h) stick offset o (mm).
-        tangent: (3, h) unit tangent of the master at the anchor when it was committed.
     """
 
     slave: np.ndarray
@@ -43,15 +36,13 @@ class FrictionHistory(NamedTuple):
     tau: np.ndarray
     image: np.ndarray
     offset: np.ndarray
-    tangent: np.ndarray
 
     @classmethod
     def empty(cls) -> "FrictionHistory":
         """No anchors: every contact starts without friction until the next commit."""
         none = np.zeros(0, dtype=np.int64)
-        vectors = np.zeros((3, 0))
         return cls(
-            none, none, np.zeros(0), none, np.zeros(0), np.zeros((0, 2), np.int64), vectors, vectors
+            none, none, np.zeros(0), none, np.zeros(0), np.zeros((0, 2), np.int64), np.zeros((3, 0))
         )
 
     def __len__(self) -> int:

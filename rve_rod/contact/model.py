@@ -54,7 +54,6 @@ from rve_rod.contact.regions import (
     WeightTerms,
     region_weights,
 )
-from rve_rod.contact.transport import transport
 from rve_rod.errors import InputError, check_integer, check_positive
 
 logger = logging.getLogger(__name__)
@@ -204,15 +203,12 @@ class _Anchors(NamedTuple):
     span: np.ndarray  # (k,)
     tau: np.ndarray  # (k,)
     shift: np.ndarray  # (k, 3) reference lattice shift of the anchor's image
-    slip_vector: np.ndarray  # (3, k) w = x_s - x_a - R o (mm), zero without anchor
-    offset_derivative: np.ndarray  # (3, 3, k) d(R o)/dC' at the anchor, zero without anchor
+    slip_vector: np.ndarray  # (3, k) w = x_s - x_a - o (mm), zero without anchor
 
     @classmethod
     def none(cls, k: int) -> "_Anchors":
         """k contacts without anchors."""
-        return cls(
-            np.full(k, -1), np.zeros(k), np.zeros((k, 3)), np.zeros((3, k)), np.zeros((3, 3, k))
-        )
+        return cls(np.full(k, -1), np.zeros(k), np.zeros((k, 3)), np.zeros((3, k)))
 
 
 class _SearchCounts(NamedTuple):
@@ -437,16 +433,9 @@ class ContactModel:
             self._span_points(points, anchors.span[rows], anchors.tau[rows])
             + (anchors.shift[rows] @ deformation.T).T
         )
-        # the offset turns with the master's tangent at the anchor (`transport`)
-        span_points = self.layout.span_points(points)[anchors.span[rows]]
-        anchor_tangents = np.einsum(
-            "ka,kac->ck", self.layout.basis(anchors.span[rows], anchors.tau[rows], 1), span_points
-        )
-        offset = transport(history.tangent[:, anchor], anchor_tangents, history.offset[:, anchor])
         anchors.slip_vector[:, rows] = (
-            slave_points[:, active.slave[rows]] - anchor_points - offset.vectors
+            slave_points[:, active.slave[rows]] - anchor_points - history.offset[:, anchor]
         )
-        anchors.offset_derivative[:, :, rows] = offset.derivative
         return anchors
 
     # -- search -------------------------------------------------------------------------------
@@ -560,7 +549,6 @@ class ContactModel:
         """Anchors of all detected pairs: offset v - g_e (g_e = 0 where there is no friction)."""
         offset = detected.state.gap_vector.copy()
         offset[:, active_rows] -= loads.elastic_slip
-        tangent = detected.state.tangent
         return FrictionHistory(
             slave=detected.slave,
             strand=detected.strand,
@@ -569,7 +557,6 @@ class ContactModel:
             tau=detected.tau,
             image=detected.image,
             offset=offset,
-            tangent=tangent / np.linalg.norm(tangent, axis=0),
         )
 
     # -- linearization --------------------------------------------------------------------------
@@ -668,7 +655,7 @@ class ContactModel:
                 anchor_basis,
             ]
         ).transpose(0, 2, 1)
-        size = slave.size * 9 * 4 * (layout.degree + 1)  # 3 spans, and the anchor's again
+        size = slave.size * 9 * 3 * (layout.degree + 1)
         rows = np.empty(size, dtype=np.int64)
         columns = np.empty(size, dtype=np.int64)
         values = np.empty(size)
@@ -682,25 +669,6 @@ class ContactModel:
             rows,
             columns,
             values,
-        )
-        # The offset turns with the anchor's tangent C'_a: w = x_s - x_a - R o gives
-        # d load / dC'_a = (d load / d x_a) d(R o)/dC'_a, chained by dN_c/dtau at the anchor.
-        turning = np.zeros_like(blocks)
-        turning[ANCHOR] = np.einsum("ijk,jlk->ilk", blocks[ANCHOR], anchors.offset_derivative)
-        anchor_slopes = np.zeros((slave.size, layout.degree + 1))
-        anchor_slopes[anchored] = layout.basis(anchors.span[anchored], anchors.tau[anchored], 1)
-        basis[3] = anchor_slopes.T
-        only_anchor = first.copy()
-        only_anchor[:2] = -1
-        count += _kernels.block_entries(
-            turning,
-            np.arange(k, dtype=np.int64),
-            k,
-            np.ascontiguousarray(only_anchor),
-            np.ascontiguousarray(basis),
-            rows[count:],
-            columns[count:],
-            values[count:],
         )
         shape = (3 * k, 3 * layout.n_control_points)
         jacobian = scipy.sparse.coo_matrix(
