@@ -62,6 +62,17 @@ def with_exponent(exponent: float) -> Callable[[YarnModel], YarnModel]:
     return change
 
 
+def pre_loaded(factor: float) -> Callable[[YarnModel], YarnModel]:
+    """The contact law on a radius `factor` r: the loop, built with r, overlaps by 2 (factor - 1)
+    r where its yarns touch, and the zero-strain solve relaxes it to a pre-loaded equilibrium."""
+
+    def change(yarn: YarnModel) -> YarnModel:
+        law = dataclasses.replace(yarn.law, yarn_radius=factor * yarn.radius)
+        return yarn._replace(law=law)
+
+    return change
+
+
 def shoulder(factor: float) -> Callable[[Fabric], list]:
     """The loop with shoulder radius rho = factor r (depth from the clearance condition)."""
 
@@ -110,6 +121,8 @@ VARIANTS = (
     Variant("contact stiffness factor", "0.1", yarn_settings={"contact_stiffness_factor": 0.1}),
     Variant("contact exponent p", "1.0", yarn=with_exponent(1.0)),
     Variant("contact exponent p", "2.5", yarn=with_exponent(2.5)),
+    Variant("contact pre-load (law radius)", "1.01 r", yarn=pre_loaded(1.01)),
+    Variant("contact pre-load (law radius)", "1.03 r", yarn=pre_loaded(1.03)),
     Variant("loop shoulder rho", "1.6 r", curves=shoulder(1.6)),
     Variant("loop depth d", "1.3 x minimum", curves=deeper(1.3)),
     Variant("loop depth d", "1.6 x minimum", curves=deeper(1.6)),
@@ -151,6 +164,8 @@ def at(result: RveResult, strain: float, name: str) -> float:
 
 def ratio(result: RveResult) -> str:
     """-lateral / axial strain at 20 %, or where the run stopped."""
+    if not result.steps:
+        return "no unloaded equilibrium"
     if not result.complete:
         return f"stopped at {100 * result.steps[-1].strain:.0f} %"
     return f"{-at(result, 0.2, 'lateral_strain') / 0.2:.3f}"
@@ -158,6 +173,8 @@ def ratio(result: RveResult) -> str:
 
 def first_step(result: RveResult) -> str:
     """Lateral strain at the first loaded state (%)."""
+    if len(result.steps) < 2:
+        return "-"
     return f"{100 * result.steps[1].lateral_strain:+.2f}"
 
 
