@@ -76,12 +76,15 @@ class StressParts(NamedTuple):
         cut: (2, 2) n_cut (x) a1 / A0, the yarn force through the periodic cut (N/mm).
         images: (2, 2) the contacts with the lattice images (N/mm).
         contacts_at_cut: contacts at the two end collocation points (not applied, left out).
+        friction: (2, 2) the part of `images` carried by the friction loads (N/mm); the rest,
+            images - friction, is the normal loads'.
     """
 
     first_piola: np.ndarray
     cut: np.ndarray
     images: np.ndarray
     contacts_at_cut: int
+    friction: np.ndarray
 
 
 def image_weights(
@@ -104,11 +107,13 @@ def macro_stress(
     cut = np.zeros((2, 2))
     cut[:, 0] = cut_force[:2] * coupling.lattice[0, 0] / coupling.area
     images = np.zeros((2, 2))
+    friction = np.zeros((2, 2))
     at_cut = np.zeros(0, dtype=bool)
     for b in range(2):
         weights, at_cut = image_weights(coupling, result, b)
         images[:, b] = result.contacts.load[:2] @ weights
-    return StressParts(cut + images, cut, images, int(np.count_nonzero(at_cut)))
+        friction[:, b] = result.contacts.friction_load[:2] @ weights
+    return StressParts(cut + images, cut, images, int(np.count_nonzero(at_cut)), friction)
 
 
 @dataclass(frozen=True, eq=False)

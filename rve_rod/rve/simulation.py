@@ -67,6 +67,10 @@ class RveStep:
         green_lagrange: (3,) E = (E11, E22, E12).
         first_piola: (2, 2) P (N/mm).
         second_piola: (3,) S = F^-1 P, symmetrized (N/mm).
+        stress_parts: (3, 2, 2) P split by where it is carried: the yarn force through the
+            periodic cut, the normal loads and the friction loads of the contacts with the
+            lattice images (N/mm); they sum to `first_piola` (docs/validation.md, "Why the
+            knit contracts too little").
         reaction: (2, 2) force on the cell faces (N): column b is P[:, b] times the length of
             the face normal to axis b (c for b = 1, w for b = 2).
         force_n: the reaction along the load direction, sum_ab D_ab reaction_ab (N).
@@ -89,6 +93,7 @@ class RveStep:
     green_lagrange: np.ndarray
     first_piola: np.ndarray
     second_piola: np.ndarray
+    stress_parts: np.ndarray
     reaction: np.ndarray
     force_n: float
     force_gf_per_cm: float
@@ -203,6 +208,7 @@ class RveResult:
             "green_lagrange": self.series("green_lagrange").tolist(),
             "first_piola": self.series("first_piola").tolist(),
             "second_piola": self.series("second_piola").tolist(),
+            "stress_parts": self.series("stress_parts").tolist(),
             "reaction_n": self.series("reaction").tolist(),
             "support_reaction": self.series("support_reaction").tolist(),
         }
@@ -287,6 +293,13 @@ def _step(case: LoadCase, lattice: np.ndarray, snapshot: _Snapshot, **counts) ->
         green_lagrange=voigt(green_lagrange(F)),
         first_piola=P,
         second_piola=voigt(second_piola_kirchhoff(F, P)),
+        stress_parts=np.array(
+            [
+                derived.stress.cut,
+                derived.stress.images - derived.stress.friction,
+                derived.stress.friction,
+            ]
+        ),
         reaction=reaction,
         force_n=float(np.sum(direction * reaction)),
         force_gf_per_cm=float(n_per_mm_to_gf_per_cm(np.sum(direction * P))),
