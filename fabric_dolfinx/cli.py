@@ -24,7 +24,7 @@ from fabric_dolfinx.plot import plot_force_strain
 from fabric_dolfinx.solve import SolverOptions
 from fabric_dolfinx.tension import TensionSetup
 from fabric_dolfinx.tension_spec import TensionTest
-from rve_rod.errors import ConvergenceError, InputError, cli_exit_status
+from rve_rod.errors import CommandLineParser, ConvergenceError, InputError, cli_exit_status
 from rve_rod.surface import read_surface
 
 __all__ = [
@@ -35,13 +35,6 @@ __all__ = [
 ]
 
 PROGRAM = "fabric-dolfinx"
-
-
-class _Parser(argparse.ArgumentParser):
-    """argparse that reports usage errors as InputError (one line, exit status 2)."""
-
-    def error(self, message):
-        raise InputError(message)
 
 
 def _svk(text: str):
@@ -56,7 +49,9 @@ def _svk(text: str):
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with its subcommands."""
-    parser = _Parser(prog=PROGRAM, description="Fabric-scale membrane simulations with DOLFINx.")
+    parser = CommandLineParser(
+        prog=PROGRAM, description="Fabric-scale membrane simulations with DOLFINx."
+    )
     parser.add_argument("-v", "--verbose", action="count", default=0, help="more log output")
     subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     tension = subparsers.add_parser(

@@ -22,7 +22,7 @@ from knitmech.scene import load_scene
 from knitmech.stages import StageError
 from rve_rod import __version__
 from rve_rod.cache import default_cache_root
-from rve_rod.errors import InputError, cli_exit_status
+from rve_rod.errors import CommandLineParser, cli_exit_status
 from rve_rod.homogenize.generate import GenerationError
 
 __all__ = [
@@ -36,13 +36,6 @@ __all__ = [
 PROGRAM = "knitmech"
 
 
-class _Parser(argparse.ArgumentParser):
-    """argparse that reports usage errors as InputError (one line, exit status 2)."""
-
-    def error(self, message):
-        raise InputError(message)
-
-
 def available_cores() -> int:
     """CPU cores this process may use."""
     return len(os.sched_getaffinity(0))
@@ -50,7 +43,9 @@ def available_cores() -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with its subcommands."""
-    parser = _Parser(prog=PROGRAM, description="Knitted-fabric mechanics from yarn to fabric.")
+    parser = CommandLineParser(
+        prog=PROGRAM, description="Knitted-fabric mechanics from yarn to fabric."
+    )
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     run = subparsers.add_parser(

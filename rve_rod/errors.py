@@ -5,9 +5,11 @@ statuses the command-line tools give them.
 tools print its one-line message and exit with status 2. `ConvergenceError` is what a solver
 raises when it cannot go on; it carries everything that converged before it stopped (exit
 status 3). `cli_exit_status` is the one mapping of the three tools (`rve-rod`,
-`fabric-dolfinx`, `knitmech`).
+`fabric-dolfinx`, `knitmech`), and `CommandLineParser` their argument parser, whose usage errors
+are InputErrors.
 """
 
+import argparse
 import math
 import numbers
 import sys
@@ -18,6 +20,7 @@ __all__ = [
     "EXIT_INTERRUPTED",
     "EXIT_NOT_CONVERGED",
     "EXIT_STOPPED",
+    "CommandLineParser",
     "ConvergenceError",
     "InputError",
     "check_finite",
@@ -108,6 +111,14 @@ def check_integer(name: str, value: int, low: int, high: int | None = None) -> i
         upper = "inf" if high is None else str(high)
         raise InputError(f"{name}={number} is outside the valid range [{low}, {upper}]")
     return number
+
+
+class CommandLineParser(argparse.ArgumentParser):
+    """argparse that reports usage errors as InputError (one line, exit status 2), its
+    subcommands' parsers too."""
+
+    def error(self, message):
+        raise InputError(message)
 
 
 def cli_exit_status(

@@ -21,6 +21,11 @@ from rve_rod.errors import InputError
 if TYPE_CHECKING:
     from rve_rod.rve.simulation import RveResult
 
+__all__ = [
+    "write_polylines",
+    "write_vtk",
+]
+
 SAMPLES_PER_QUARTER = 48
 """Polyline points per quarter loop of an RVE run."""
 

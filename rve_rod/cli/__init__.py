@@ -1,9 +1,9 @@
 """The `rve-rod` command: one module per subcommand, each with `register(subparsers)`.
 
 Every subcommand module adds its parser and sets `run=callable(args) -> int`. Bad input
-(`InputError`) prints one line and exits with status 2; a solver that cannot converge
-(`ConvergenceError`) prints one line and exits with status 3 after the subcommand has saved
-what converged; Ctrl-C exits with 130 (`rve_rod.errors.cli_exit_status`).
+(`InputError`, including unusable arguments) prints one line and exits with status 2; a solver
+that cannot converge (`ConvergenceError`) prints one line and exits with status 3 after the
+subcommand has saved what converged; Ctrl-C exits with 130 (`rve_rod.errors.cli_exit_status`).
 """
 
 import argparse
@@ -11,7 +11,7 @@ import logging
 import sys
 
 from rve_rod import __version__
-from rve_rod.errors import cli_exit_status
+from rve_rod.errors import CommandLineParser, cli_exit_status
 
 __all__ = [
     "SUBCOMMANDS",
@@ -25,7 +25,7 @@ SUBCOMMANDS: tuple[str, ...] = ("geometry", "simulate", "surface", "measure", "s
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with all subcommands registered."""
-    parser = argparse.ArgumentParser(
+    parser = CommandLineParser(
         prog="rve-rod",
         description="Yarn-level model of single-jersey knits: loop geometry, Cosserat-rod RVE, "
         "response surfaces.",
@@ -41,16 +41,17 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of `rve-rod`; returns the process exit status."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    logging.basicConfig(
-        level=logging.WARNING - 10 * min(args.verbose, 2),
-        format="%(levelname)s %(name)s: %(message)s",
-    )
+    command = ""
     try:
+        args = build_parser().parse_args(argv)
+        command = args.command
+        logging.basicConfig(
+            level=logging.WARNING - 10 * min(args.verbose, 2),
+            format="%(levelname)s %(name)s: %(message)s",
+        )
         return int(args.run(args) or 0)
     except (Exception, KeyboardInterrupt) as error:
-        return cli_exit_status(f"rve-rod {args.command}", error)
+        return cli_exit_status(f"rve-rod {command}", error)
 
 
 if __name__ == "__main__":

@@ -19,6 +19,17 @@ import numpy as np
 from rve_rod.contact import _kernels
 from rve_rod.contact.layout import ContactLayout, PeriodicLattice
 
+__all__ = [
+    "Boxes",
+    "Candidates",
+    "SpanGroups",
+    "find_candidates",
+    "group_boxes",
+    "group_spans",
+    "overlapping_boxes",
+    "select_images",
+]
+
 
 class SpanGroups(NamedTuple):
     """Consecutive spans of one patch that share a box (arrays over B groups).

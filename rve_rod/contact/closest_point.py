@@ -15,6 +15,11 @@ import numpy as np
 
 from rve_rod.contact import _kernels
 
+__all__ = [
+    "Projections",
+    "project",
+]
+
 TOLERANCE = 1e-14
 """Convergence tolerance on the local span parameter tau."""
 

@@ -24,6 +24,17 @@ import numpy as np
 from rve_rod.contact import _kernels
 from rve_rod.contact.law import CompressibleYarnLaw, CoulombFriction
 
+__all__ = [
+    "ANCHOR",
+    "MASTER",
+    "SLAVE",
+    "TANGENT",
+    "ContactLoads",
+    "Kinematics",
+    "contact_loads",
+    "kinematics",
+]
+
 SLAVE, MASTER, TANGENT, ANCHOR = range(4)
 """Order of the derivative blocks: w.r.t. x_s, x_m, C'(tau) and the anchor x_a."""
 

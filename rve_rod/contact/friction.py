@@ -14,6 +14,11 @@ from typing import NamedTuple
 
 import numpy as np
 
+__all__ = [
+    "FrictionHistory",
+    "match_anchors",
+]
+
 _STRAND_BITS = 31  # strand keys stay below 2^31 (yarn << 20 | image offsets)
 
 

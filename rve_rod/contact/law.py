@@ -26,6 +26,13 @@ import numpy as np
 from rve_rod.contact import _kernels
 from rve_rod.errors import InputError, check_positive, check_range
 
+__all__ = [
+    "DEFAULT_STIFFNESS_FACTOR",
+    "MINIMUM_EXPONENT",
+    "CompressibleYarnLaw",
+    "CoulombFriction",
+]
+
 MINIMUM_EXPONENT = 1.0
 """Smallest admissible exponent p: the law stays Lipschitz (finite tangent) at first touch."""
 

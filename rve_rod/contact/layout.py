@@ -23,6 +23,14 @@ from rve_rod.geometry.bspline import (
     greville_abscissae,
 )
 
+__all__ = [
+    "ContactLayout",
+    "Patch",
+    "PeriodicLattice",
+    "YarnChain",
+    "build_layout",
+]
+
 _GAUSS_POINTS = 8
 _IMAGE_BITS = 10  # image offsets |i|, |j| < 2^9 in strand keys
 

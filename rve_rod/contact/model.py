@@ -56,6 +56,15 @@ from rve_rod.contact.regions import (
 )
 from rve_rod.errors import InputError, check_integer, check_positive
 
+__all__ = [
+    "DEFORMATION_COMPONENTS",
+    "ActiveContacts",
+    "ContactModel",
+    "ContactOptions",
+    "ContactResult",
+    "ContactStatistics",
+]
+
 logger = logging.getLogger(__name__)
 
 DEFORMATION_COMPONENTS = ("F11", "F12", "F21", "F22")

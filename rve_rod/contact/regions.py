@@ -29,6 +29,14 @@ import numpy as np
 
 from rve_rod.contact.layout import ContactLayout
 
+__all__ = [
+    "RegionWeights",
+    "StrandGeometry",
+    "StrandPoints",
+    "WeightTerms",
+    "region_weights",
+]
+
 _SAMPLES = 16
 """Interior samples of the distance between two neighbouring minima, to bracket the maximum."""
 

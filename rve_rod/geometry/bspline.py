@@ -17,6 +17,20 @@ import scipy.sparse
 
 from rve_rod.errors import InputError, check_integer
 
+__all__ = [
+    "BSplineCurve",
+    "BasisValues",
+    "SplitCurve",
+    "basis_functions",
+    "basis_matrix",
+    "check_knot_vector",
+    "find_spans",
+    "greville_abscissae",
+    "interpolate",
+    "join",
+    "open_knot_vector",
+]
+
 
 class BasisValues(NamedTuple):
     """The nonzero basis functions at m parameters.

@@ -43,6 +43,19 @@ from rve_rod.geometry.loop_spline import CONTROL_POINTS, DEGREE, fit_quarter, mi
 from rve_rod.geometry.proximity import ChainClearance, chain_clearance
 from rve_rod.presets import Knit
 
+__all__ = [
+    "ADJACENT_ARC_FACTOR",
+    "SHOULDER_ASPECT",
+    "LoopGeometry",
+    "LoopShape",
+    "QuarterSamples",
+    "adjusted_radius",
+    "loop_geometry",
+    "loop_polylines",
+    "shoulder_radius_bounds",
+    "single_jersey_loop",
+]
+
 logger = logging.getLogger(__name__)
 
 ADJACENT_ARC_FACTOR = math.pi

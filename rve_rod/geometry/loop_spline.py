@@ -17,6 +17,16 @@ from rve_rod.geometry.bspline import BSplineCurve, basis_functions, basis_matrix
 if TYPE_CHECKING:
     from rve_rod.geometry.loop import LoopShape
 
+__all__ = [
+    "CONTROL_POINTS",
+    "DEGREE",
+    "SymmetryCondition",
+    "condition_rows",
+    "fit_quarter",
+    "mirrored_loop",
+    "symmetry_conditions",
+]
+
 DEGREE = 4
 """Degree of the loop curves (the paper's geometry)."""
 CONTROL_POINTS = 12

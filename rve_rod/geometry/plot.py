@@ -10,6 +10,10 @@ import numpy as np
 
 from rve_rod.geometry.loop import LoopGeometry, loop_polylines
 
+__all__ = [
+    "plot_loop",
+]
+
 
 def plot_loop(geometry: LoopGeometry, path: str | Path) -> Path:
     """Save a PNG: 3D view, x/y projection (the fabric face) and y/z side view of the loop

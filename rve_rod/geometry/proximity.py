@@ -18,6 +18,11 @@ import scipy.spatial
 from rve_rod.errors import InputError, check_integer
 from rve_rod.geometry.bspline import BasisValues, BSplineCurve, basis_functions
 
+__all__ = [
+    "ChainClearance",
+    "chain_clearance",
+]
+
 _SAMPLES_PER_CURVE = 48
 _NEWTON_ITERATIONS = 40
 

@@ -25,6 +25,10 @@ from rve_rod.errors import ConvergenceError, InputError, check_finite, check_pos
 from rve_rod.homogenize.samples import RveCase, RveRun
 from rve_rod.stress_measures import green_lagrange, voigt
 
+__all__ = [
+    "AnalyticRve",
+]
+
 
 @dataclass(frozen=True)
 class AnalyticRve:

@@ -49,6 +49,15 @@ from rve_rod.surface import (
     tangent_asymmetry,
 )
 
+__all__ = [
+    "FitOptions",
+    "FitReport",
+    "fit_energy_surface",
+    "fit_report",
+    "fit_stress_surface",
+    "knot_vector",
+]
+
 
 @dataclass(frozen=True)
 class FitOptions:

@@ -30,6 +30,17 @@ from rve_rod.homogenize.sampling import SamplingPlan
 from rve_rod.presets import Fabric
 from rve_rod.surface import ResponseSurface
 
+__all__ = [
+    "GeneratedSurface",
+    "GenerationError",
+    "RunsResult",
+    "case_inputs",
+    "engine_identity",
+    "execute",
+    "generate_surface",
+    "run_cases",
+]
+
 logger = logging.getLogger(__name__)
 
 

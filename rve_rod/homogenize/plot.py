@@ -8,6 +8,10 @@ from matplotlib.figure import Figure
 
 from rve_rod.surface import ResponseSurface
 
+__all__ = [
+    "plot_surface",
+]
+
 
 def plot_surface(surface: ResponseSurface, path: str | Path, points_per_axis: int = 41) -> Path:
     """Write a PNG of S11(E11, E22), S22(E11, E22) (surfaces and samples) and S12(E12) (N/mm)."""

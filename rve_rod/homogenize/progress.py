@@ -4,6 +4,10 @@ import time
 from dataclasses import dataclass, field
 from typing import TextIO
 
+__all__ = [
+    "Progress",
+]
+
 
 def _clock(seconds: float) -> str:
     minutes, seconds = divmod(round(seconds), 60)

@@ -18,6 +18,13 @@ from rve_rod.homogenize.sampling import LoadPath
 from rve_rod.presets import Fabric
 from rve_rod.stress_measures import membrane_state
 
+__all__ = [
+    "RveCase",
+    "RveRun",
+    "SurfaceSamples",
+    "surface_samples",
+]
+
 
 @dataclass(frozen=True)
 class RveCase:

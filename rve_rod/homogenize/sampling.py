@@ -16,6 +16,11 @@ import numpy as np
 
 from rve_rod.errors import InputError, check_integer, check_range
 
+__all__ = [
+    "LoadPath",
+    "SamplingPlan",
+]
+
 LOAD_KINDS = ("biaxial", "shear")
 
 

@@ -18,6 +18,14 @@ import scipy.ndimage
 from rve_rod.imaging.image_io import block_mean
 from rve_rod.imaging.spectrum import parabola_vertex
 
+__all__ = [
+    "Autocorrelation",
+    "Repeat",
+    "autocorrelation",
+    "shift_correlation",
+    "strongest_repeat",
+]
+
 MIN_OVERLAP = 0.05
 """Smallest overlap (fraction of the image) of a shifted image worth a correlation."""
 

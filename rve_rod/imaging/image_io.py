@@ -7,6 +7,13 @@ from PIL import Image, UnidentifiedImageError
 
 from rve_rod.errors import InputError
 
+__all__ = [
+    "block_mean",
+    "read_image",
+    "to_grayscale",
+    "write_image",
+]
+
 LUMA_WEIGHTS = np.array([0.2126, 0.7152, 0.0722])
 """Rec. 709 luma weights of the red, green and blue channels (sum 1)."""
 

@@ -31,6 +31,20 @@ import scipy.ndimage
 from rve_rod.errors import InputError
 from rve_rod.imaging.autocorrelation import shift_correlation, strongest_repeat
 
+__all__ = [
+    "MIN_INDEXED",
+    "FabricCell",
+    "LatticeFit",
+    "Periods",
+    "confirm_periods",
+    "fabric_cell",
+    "fit_basis",
+    "index_peaks",
+    "reduce_basis",
+    "refit_on",
+    "spans_plane",
+]
+
 logger = logging.getLogger(__name__)
 
 MIN_INDEXED = 3

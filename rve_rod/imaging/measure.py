@@ -38,6 +38,13 @@ from rve_rod.imaging.spectrum import (
 )
 from rve_rod.presets import Knit
 
+__all__ = [
+    "MeasureOptions",
+    "PhotoEstimate",
+    "knit_from_photo",
+    "measure_photo",
+]
+
 logger = logging.getLogger(__name__)
 
 MIN_SIDE_PX = 32

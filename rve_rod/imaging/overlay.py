@@ -15,6 +15,10 @@ from matplotlib.figure import Figure
 from rve_rod.imaging.measure import PhotoEstimate
 from rve_rod.imaging.synthetic import image_coordinates
 
+__all__ = [
+    "plot_overlay",
+]
+
 CELL_BINS = 32
 """Bins per lattice vector of the folded mean cell."""
 

@@ -20,6 +20,18 @@ import scipy.ndimage
 
 from rve_rod.errors import InputError
 
+__all__ = [
+    "PowerSpectrum",
+    "SpectralPeaks",
+    "annulus_medians",
+    "find_peaks",
+    "flatten_illumination",
+    "parabola_vertex",
+    "power_spectrum",
+    "ring_index",
+    "strongest_near",
+]
+
 FLATNESS = 1e-6
 """Relative standard deviation below which an image counts as flat (no structure at all)."""
 

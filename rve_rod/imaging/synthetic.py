@@ -23,6 +23,13 @@ from rve_rod.errors import InputError, check_integer, check_positive, check_rang
 from rve_rod.geometry.loop import LoopGeometry, loop_geometry, loop_polylines
 from rve_rod.presets import Knit
 
+__all__ = [
+    "SyntheticPhoto",
+    "cell_height_map",
+    "image_coordinates",
+    "render_photo",
+]
+
 BACKGROUND_INTENSITY = 0.05
 """Intensity of the gaps between the yarns (the dark backing of the photo)."""
 

@@ -28,6 +28,23 @@ from rve_rod.rod.layout import DOFS_PER_POINT, END, START, DofLayout, RodEnd
 if TYPE_CHECKING:
     from rve_rod.rod.model import RodModel
 
+__all__ = [
+    "Block",
+    "Clamp",
+    "Condition",
+    "ConditionContext",
+    "EndCondition",
+    "EndLoad",
+    "EndValues",
+    "Joint",
+    "Offset",
+    "OffsetFunction",
+    "Pin",
+    "PointSupport",
+    "as_vector",
+    "check_claims",
+]
+
 
 class Block(NamedTuple):
     """A contribution to the residual and the Jacobian.

@@ -17,6 +17,11 @@ from rve_rod.errors import InputError
 from rve_rod.geometry.bspline import BSplineCurve, basis_matrix
 from rve_rod.rod import quaternion
 
+__all__ = [
+    "quaternions_from_frames",
+    "reference_quaternions",
+]
+
 _SAMPLES_PER_INTERVAL = 16
 """Double-reflection substeps between neighbouring Greville points (error ~ h^4 per step)."""
 

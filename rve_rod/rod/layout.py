@@ -17,6 +17,14 @@ import numpy as np
 
 from rve_rod.errors import InputError
 
+__all__ = [
+    "DOFS_PER_POINT",
+    "END",
+    "START",
+    "DofLayout",
+    "RodEnd",
+]
+
 START = "start"
 """The rod end at the first parameter of a patch (u = u_min)."""
 

@@ -25,6 +25,13 @@ from rve_rod.rod.conditions import as_vector
 if TYPE_CHECKING:
     from rve_rod.rod.model import RodModel
 
+__all__ = [
+    "DistributedLoad",
+    "LineLoads",
+    "PointLoad",
+    "StateDependentLoad",
+]
+
 
 class LineLoads(NamedTuple):
     """Line loads at all collocation points (global collocation order, M points).

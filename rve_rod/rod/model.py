@@ -37,6 +37,16 @@ from rve_rod.rod.layout import DOFS_PER_POINT, DofLayout, RodEnd
 from rve_rod.rod.loads import DistributedLoad, LineLoads, PointLoad, StateDependentLoad
 from rve_rod.rod.section import SectionStiffness
 
+__all__ = [
+    "CollocationData",
+    "ControlPoints",
+    "Evaluation",
+    "PointLoadWeights",
+    "RodModel",
+    "RodPatch",
+    "SectionForces",
+]
+
 logger = logging.getLogger(__name__)
 
 _QUADRATURE_POINTS_PER_SPAN = 8

@@ -18,6 +18,20 @@ import numpy as np
 
 from rve_rod.errors import InputError
 
+__all__ = [
+    "align_signs",
+    "conjugate",
+    "curvature",
+    "curvature_rate",
+    "from_matrix",
+    "from_rotation_vector",
+    "left_matrix",
+    "multiply",
+    "right_matrix",
+    "rotation_matrix",
+    "skew",
+]
+
 
 def conjugate(q: np.ndarray) -> np.ndarray:
     """conj(q) = (q0, -v), shape (..., 4)."""

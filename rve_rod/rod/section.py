@@ -13,6 +13,12 @@ import numpy as np
 
 from rve_rod.errors import InputError, check_positive, check_range
 
+__all__ = [
+    "PAPER_CIRCLE",
+    "SOLID_CIRCLE",
+    "SectionStiffness",
+]
+
 SOLID_CIRCLE = "solid"
 """Second moment of area of a solid circle, I = pi r^4 / 4 (the default)."""
 

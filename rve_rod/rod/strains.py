@@ -21,6 +21,12 @@ import numpy as np
 
 from rve_rod.rod import quaternion
 
+__all__ = [
+    "Strains",
+    "collocation_equations",
+    "strains",
+]
+
 
 class Strains(NamedTuple):
     """Strain measures at m collocation points and their derivatives d/du.

@@ -45,6 +45,13 @@ from rve_rod.rve.load_cases import LoadCase
 from rve_rod.rve.macro import MacroBalance, MacroDeformation, StressParts, macro_stress
 from rve_rod.rve.yarn import YarnModel
 
+__all__ = [
+    "CellSettings",
+    "CellState",
+    "LoopCell",
+    "periodic_patch",
+]
+
 QUARTERS = 4
 """Curves per loop."""
 

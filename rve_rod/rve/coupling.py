@@ -18,6 +18,10 @@ from rve_rod.rod import LineLoads
 from rve_rod.rod.layout import DOFS_PER_POINT
 from rve_rod.rve.macro import MacroDeformation
 
+__all__ = [
+    "ContactCoupling",
+]
+
 logger = logging.getLogger(__name__)
 
 

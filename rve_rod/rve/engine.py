@@ -9,6 +9,12 @@ from rve_rod.homogenize.samples import RveCase, RveRun
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase, Shear
 from rve_rod.rve.simulation import RveSettings, simulate
 
+__all__ = [
+    "RodRve",
+    "path_case",
+    "surface_engine",
+]
+
 
 def path_case(load) -> LoadCase:
     """The load case of a sampling LoadPath: its `steps` output states after the unloaded

@@ -28,6 +28,20 @@ import numpy as np
 
 from rve_rod.errors import InputError, check_integer, check_range
 
+__all__ = [
+    "CASES",
+    "COMPONENTS",
+    "BiaxialRay",
+    "LoadCase",
+    "NormalStrain",
+    "Shear",
+    "StripBiaxialCourse",
+    "StripBiaxialWale",
+    "UniaxialCourse",
+    "UniaxialWale",
+    "load_case",
+]
+
 COMPONENTS = ((0, 0), (0, 1), (1, 0), (1, 1))
 """The in-plane components (a, b) of F in the order F11, F12, F21, F22."""
 

@@ -32,6 +32,13 @@ from rve_rod.rve.load_cases import COMPONENTS, LoadCase
 if TYPE_CHECKING:
     from rve_rod.rve.coupling import ContactCoupling
 
+__all__ = [
+    "MacroBalance",
+    "MacroDeformation",
+    "StressParts",
+    "macro_stress",
+]
+
 
 @dataclass(frozen=True, eq=False)
 class MacroDeformation:

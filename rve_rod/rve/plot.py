@@ -6,6 +6,10 @@ from matplotlib.figure import Figure
 
 from rve_rod.rve.simulation import RveResult
 
+__all__ = [
+    "plot_curve",
+]
+
 
 def plot_curve(result: RveResult, path) -> Path:
     """Force per width (gf/cm) over the control strain (%), and the lateral strain of a

@@ -30,6 +30,15 @@ from rve_rod.stepping import SteppingOptions
 from rve_rod.stress_measures import green_lagrange, second_piola_kirchhoff, voigt
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
+__all__ = [
+    "RveResult",
+    "RveSettings",
+    "RveStep",
+    "build_cell",
+    "run_cell",
+    "simulate",
+]
+
 logger = logging.getLogger(__name__)
 
 

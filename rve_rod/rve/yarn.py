@@ -21,6 +21,12 @@ from rve_rod.geometry.loop import adjusted_radius
 from rve_rod.presets import Fabric
 from rve_rod.rod import PAPER_CIRCLE, SOLID_CIRCLE, SectionStiffness
 
+__all__ = [
+    "YarnModel",
+    "YarnSettings",
+    "yarn_model",
+]
+
 
 @dataclass(frozen=True)
 class YarnSettings:

@@ -11,6 +11,12 @@ import scipy.optimize
 from rve_rod.errors import InputError, check_integer
 from rve_rod.surface.response import ResponseSurface
 
+__all__ = [
+    "homogeneous_response",
+    "softest_normal_tangents",
+    "tangent_asymmetry",
+]
+
 LOAD_AXES = {"course": 0, "wale": 1}
 """Load direction -> the strain component (E11 or E22) it stretches."""
 

@@ -28,6 +28,16 @@ from rve_rod.surface.response import (
 )
 from rve_rod.surface.splines import Spline1D, Spline2D, degree_list, extension_orders, knot_list
 
+__all__ = [
+    "FORMAT",
+    "UNITS",
+    "VERSION",
+    "SurfaceFileError",
+    "generator_info",
+    "read_surface",
+    "write_surface",
+]
+
 logger = logging.getLogger(__name__)
 
 FORMAT = "knit-response-surface"

@@ -16,6 +16,17 @@ import numpy as np
 from rve_rod.errors import InputError
 from rve_rod.surface.splines import Spline1D, Spline2D, extension_orders, float_array, knot_list
 
+__all__ = [
+    "EXTENSION_ORDERS",
+    "GROUP_INPUTS",
+    "STRESS_GROUPS",
+    "FitSamples",
+    "ResidualStats",
+    "ResponseSurface",
+    "StressResult",
+    "energy_surface",
+]
+
 STRESS_GROUPS = ("S11", "S22", "S12")
 """The stress groups of every file, in Voigt order."""
 EXTENSION_ORDERS = {

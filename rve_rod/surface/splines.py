@@ -12,6 +12,15 @@ import numpy as np
 from rve_rod.errors import InputError, check_integer
 from rve_rod.geometry.bspline import basis_functions, check_knot_vector
 
+__all__ = [
+    "Spline1D",
+    "Spline2D",
+    "degree_list",
+    "extension_orders",
+    "float_array",
+    "knot_list",
+]
+
 
 def float_array(array: np.ndarray) -> np.ndarray:
     return np.array(array, dtype=float)

@@ -89,3 +89,26 @@ def test_every_command_line_exits_130_on_ctrl_c(monkeypatch, capsys, program):
     assert main(argv) == 130
     last = capsys.readouterr().err.strip().splitlines()[-1]
     assert last.startswith(f"{program} {argv[0]}: interrupted")
+
+
+@pytest.mark.parametrize(
+    ("program", "module"),
+    [
+        ("rve-rod", "rve_rod.cli"),
+        ("knitmech", "knitmech.cli"),
+        ("fabric-dolfinx", "fabric_dolfinx.cli"),
+    ],
+)
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [([], "the following arguments are required"), (["no-such-command"], "invalid choice")],
+)
+def test_every_command_line_gives_usage_errors_one_line_and_exit_2(
+    capsys, program, module, argv, message
+):
+    """The three tools share the parser (`CommandLineParser`): no usage text, status 2."""
+    main = __import__(module, fromlist=["main"]).main
+    assert main(argv) == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"{program}: error: ")
+    assert message in lines[0]
