@@ -7,12 +7,14 @@ stage cache. Files are written relative to the folder `compute` is given: `figur
 `paraview/`, `meso/` and `surface.h5` of the results folder (docs/pipeline.md).
 """
 
+import contextlib
 import dataclasses
 import hashlib
 import json
 import logging
 import os
 import shutil
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -42,6 +44,7 @@ from rve_rod.surface import read_surface, write_surface
 __all__ = [
     "DIRECTION_CASES",
     "FIELD_STRAINS",
+    "MPI_STOP_TIMEOUT_S",
     "SOFTENING_TOLERANCE",
     "STAGE_VERSION",
     "SURFACE_FIGURE",
@@ -364,6 +367,42 @@ def _macro_compute(job: PatchJob, surface_path: Path, ranks: int):
     return compute
 
 
+MPI_STOP_TIMEOUT_S = 10.0
+"""Seconds mpirun and its ranks get to end after SIGTERM before they are killed."""
+
+
+def _run_group(command: list[str], environment: dict) -> tuple[int, str]:
+    """Run `command` in a process group of its own; returns its exit status and stderr.
+
+    On any interruption (Ctrl-C, SIGTERM as `rve_rod.errors.Terminated`, an error) the whole
+    group (mpirun and every rank) is sent SIGTERM, and SIGKILL after MPI_STOP_TIMEOUT_S, and
+    waited for, so that no rank outlives the run or writes into a folder being removed.
+    """
+    process = subprocess.Popen(
+        command,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=environment,
+        start_new_session=True,
+    )
+    try:
+        _, stderr = process.communicate()
+    except BaseException:
+        for signum, timeout in ((signal.SIGTERM, MPI_STOP_TIMEOUT_S), (signal.SIGKILL, None)):
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(process.pid, signum)
+            try:
+                process.wait(timeout)
+                break
+            except subprocess.TimeoutExpired:
+                continue
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(process.pid, signal.SIGKILL)  # ranks that outlived mpirun
+        raise
+    return process.returncode, stderr
+
+
 def _run_patch_mpi(job: PatchJob, surface_path: Path, folder: Path, ranks: int) -> PatchSummary:
     """Run `knitmech.macro` under `mpirun -n ranks`; returns the summary rank 0 wrote."""
     request = folder / ".patch.json"
@@ -388,9 +427,9 @@ def _run_patch_mpi(job: PatchJob, surface_path: Path, folder: Path, ranks: int) 
         "OMPI_MCA_rmaps_base_oversubscribe": "1",
     }
     logger.info("macro %s: %s", job.test.direction, " ".join(command))
-    process = subprocess.run(command, check=False, capture_output=True, text=True, env=environment)
-    if process.returncode != 0:
-        tail = "\n".join(process.stderr.strip().splitlines()[-5:])
+    returncode, stderr = _run_group(command, environment)
+    if returncode != 0:
+        tail = "\n".join(stderr.strip().splitlines()[-5:])
         raise StageError(f"macro {job.test.direction} under mpirun failed: {tail}")
     summary = PatchSummary.from_json(json.loads(summary_path.read_text()))
     for path in (request, summary_path):

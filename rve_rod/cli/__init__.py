@@ -3,15 +3,19 @@
 Every subcommand module adds its parser and sets `run=callable(args) -> int`. Bad input
 (`InputError`) prints one line and exits with status 2; a solver that cannot converge
 (`ConvergenceError`) prints one line and exits with status 3 after the subcommand has saved
-what converged; Ctrl-C exits with 130 (`rve_rod.errors.cli_exit_status`).
+what converged; Ctrl-C exits with 130 and SIGTERM with 143; a reader that closes stdout
+(`| head`) ends it quietly with 141 (`rve_rod.errors.cli_exit_status`). Output paths are
+checked before anything is computed (`rve_rod.outputs`).
 """
 
 import argparse
+import functools
 import logging
 import sys
 
 from rve_rod import __version__
-from rve_rod.errors import cli_exit_status
+from rve_rod.errors import cli_exit_status, terminate_as_interrupt
+from rve_rod.help_format import HelpFormatter
 
 __all__ = [
     "SUBCOMMANDS",
@@ -32,7 +36,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     parser.add_argument("-v", "--verbose", action="count", default=0, help="more log output")
-    subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    subparsers = parser.add_subparsers(
+        dest="command",
+        required=True,
+        metavar="COMMAND",
+        parser_class=functools.partial(argparse.ArgumentParser, formatter_class=HelpFormatter),
+    )
     for name in SUBCOMMANDS:
         module = __import__(f"rve_rod.cli.{name}", fromlist=["register"])
         module.register(subparsers)
@@ -41,6 +50,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of `rve-rod`; returns the process exit status."""
+    terminate_as_interrupt()
     parser = build_parser()
     args = parser.parse_args(argv)
     logging.basicConfig(

@@ -7,14 +7,15 @@ surface and writes it.
 import argparse
 import json
 import sys
-from pathlib import Path
 
+from rve_rod import limits
 from rve_rod.cache import ResultCache, default_runs_dir
 from rve_rod.cli.common import add_fabric_arguments, fabric_from_args, print_json
-from rve_rod.errors import InputError
 from rve_rod.homogenize.fit import FitOptions, FitReport
 from rve_rod.homogenize.generate import GenerationError, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
+from rve_rod.limits import check_count
+from rve_rod.outputs import check_output_file, check_output_folder
 from rve_rod.rve.engine import surface_engine
 from rve_rod.surface import STRESS_GROUPS, ResponseSurface, read_surface, write_surface
 
@@ -39,12 +40,15 @@ def register(subparsers) -> None:
     parser.add_argument("-o", "--output", required=True, help="surface file to write (.h5)")
     defaults = SamplingPlan()
     parser.add_argument(
-        "--rays", type=int, default=defaults.rays, help="biaxial rays over the full circle"
+        "--rays",
+        type=int,
+        default=defaults.rays,
+        help=f"biaxial rays over the full circle, {limits.RAYS[0]} to {limits.RAYS[1]}",
     )
     parser.add_argument(
         "--steps", type=int, default=defaults.steps_per_ray, help="output steps per ray"
     )
-    parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    parser.add_argument("--jobs", type=int, default=1, help="worker processes")
     parser.add_argument(
         "--energy", action="store_true", help="write the energy fit (symmetric tangent)"
     )
@@ -67,13 +71,15 @@ def register(subparsers) -> None:
 
 
 def run_surface(args: argparse.Namespace) -> int:
+    output = check_output_file("--output", args.output)
+    if args.plot is not None:
+        check_output_file("--plot", args.plot)
+    cache_dir = check_output_folder("--cache-dir", args.cache_dir) if args.cache_dir else None
+    check_count("--rays", args.rays, limits.RAYS)
     fabric = fabric_from_args(args)
     plan = SamplingPlan(rays=args.rays, steps_per_ray=args.steps)
-    output = Path(args.output)
-    if not output.parent.is_dir():
-        raise InputError(f"--output {output}: folder {output.parent} does not exist")
     engine = surface_engine()
-    cache = ResultCache(Path(args.cache_dir) if args.cache_dir else default_runs_dir())
+    cache = ResultCache(cache_dir or default_runs_dir())
     try:
         generated = generate_surface(
             fabric,

@@ -26,7 +26,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from rve_rod.errors import InputError, check_integer, check_range
+from rve_rod import limits
+from rve_rod.errors import InputError, check_range
+from rve_rod.limits import check_count
 
 COMPONENTS = ((0, 0), (0, 1), (1, 0), (1, 1))
 """The in-plane components (a, b) of F in the order F11, F12, F21, F22."""
@@ -53,7 +55,7 @@ class LoadCase:
     """Components (a, b) of F that are macro unknowns with P_ab = 0."""
 
     def __post_init__(self):
-        check_integer("steps", self.steps, 2, 100_000)
+        check_count("steps", self.steps, limits.RVE_STEPS)
 
     def final_deformation(self) -> np.ndarray:
         """F_end (2, 2): the prescribed components at t = 1 (free ones hold their identity
