@@ -20,8 +20,6 @@ import sys
 from pathlib import Path
 from typing import NamedTuple, TextIO
 
-import numpy as np
-
 from fabric_dolfinx.tension_spec import TensionTest
 from knitmech.fidelity import Fidelity
 from knitmech.records import GeometrySummary, MesoSummary, PatchJob, PatchSummary, SurfaceSummary
@@ -30,6 +28,7 @@ from knitmech.stage_cache import Stage
 from rve_rod.cache import ResultCache
 from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.loop import loop_geometry
+from rve_rod.homogenize.acceptance import SOFTENING_TOLERANCE
 from rve_rod.homogenize.fit import FitOptions
 from rve_rod.homogenize.generate import engine_identity, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
@@ -39,7 +38,7 @@ from rve_rod.rve import RodRve, RveSettings, load_case, simulate
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.output import write_vtk
 from rve_rod.rve.yarn import YarnSettings
-from rve_rod.surface import read_surface, write_surface
+from rve_rod.surface import read_surface, softest_normal_tangents, write_surface
 
 __all__ = [
     "DIRECTION_CASES",
@@ -58,7 +57,6 @@ __all__ = [
     "macro_stages",
     "meso_stages",
     "plan_run",
-    "softest_normal_tangents",
     "surface_stage",
     "surface_summary",
 ]
@@ -264,11 +262,6 @@ def given_surface(path: Path, folder: Path) -> SurfaceSummary:
     return dataclasses.replace(surface_summary(surface), source=str(path))
 
 
-SOFTENING_TOLERANCE = 1e-9
-"""A normal stiffness below -SOFTENING_TOLERANCE times its largest value on the domain is
-warned of; above, it is round-off of a fit held at zero slope (the monotone stress fit)."""
-
-
 def surface_summary(surface) -> SurfaceSummary:
     """Kind, domain, residuals and softest normal stiffness of a surface (warned if < 0
     beyond round-off)."""
@@ -288,29 +281,6 @@ def surface_summary(surface) -> SurfaceSummary:
         residuals={k: v._asdict() for k, v in surface.residual_stats().items()},
         softest_tangents=softest,
     )
-
-
-def softest_normal_tangents(surface, points_per_axis: int = 41) -> dict:
-    """The smallest dS11/dE11 and dS22/dE22 (N/mm) on a grid over the (E11, E22) domain,
-    the strain (E11, E22) where each occurs and the largest of each (`largest`): a negative
-    value means the fitted material softens there, where a membrane has no unique
-    equilibrium."""
-    (x_low, x_high), (y_low, y_high) = surface.domain[:2]
-    x, y = np.meshgrid(
-        np.linspace(x_low, x_high, points_per_axis), np.linspace(y_low, y_high, points_per_axis)
-    )
-    strain = np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
-    tangent = surface.stress(strain).tangent
-    softest = {}
-    for index, name in enumerate(("dS11/dE11", "dS22/dE22")):
-        values = tangent[:, index, index]
-        at = int(np.argmin(values))
-        softest[name] = {
-            "value": values[at],
-            "strain": strain[at, :2],
-            "largest": float(values.max()),
-        }
-    return softest
 
 
 def _report_dict(report) -> dict:

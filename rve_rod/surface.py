@@ -586,6 +586,29 @@ def _write_group(group: h5py.Group, name: str, spline, samples: FitSamples | Non
         group.attrs[f"residual_{key}"] = value
 
 
+def softest_normal_tangents(surface, points_per_axis: int = 41) -> dict:
+    """The smallest dS11/dE11 and dS22/dE22 (N/mm) on a grid over the (E11, E22) domain,
+    the strain (E11, E22) where each occurs and the largest of each (`largest`): a negative
+    value means the fitted material softens there, where a membrane has no unique
+    equilibrium."""
+    (x_low, x_high), (y_low, y_high) = surface.domain[:2]
+    x, y = np.meshgrid(
+        np.linspace(x_low, x_high, points_per_axis), np.linspace(y_low, y_high, points_per_axis)
+    )
+    strain = np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
+    tangent = surface.stress(strain).tangent
+    softest = {}
+    for index, name in enumerate(("dS11/dE11", "dS22/dE22")):
+        values = tangent[:, index, index]
+        at = int(np.argmin(values))
+        softest[name] = {
+            "value": values[at],
+            "strain": strain[at, :2],
+            "largest": float(values.max()),
+        }
+    return softest
+
+
 def read_surface(path: str | os.PathLike) -> ResponseSurface:
     """Read and check a surface file; SurfaceFileError names the file and the problem.
 

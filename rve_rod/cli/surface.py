@@ -21,6 +21,7 @@ from rve_rod.surface import STRESS_GROUPS, ResponseSurface, read_surface, write_
 
 __all__ = [
     "describe",
+    "print_checks",
     "print_report",
     "register",
     "run_info",
@@ -104,11 +105,23 @@ def run_surface(args: argparse.Namespace) -> int:
         written = " (written)" if report.kind == generated.surface.kind else ""
         print_report(report, f"{report.kind} fit{written}")
     print(f"wrote {output} (kind {generated.surface.kind})")
+    print_checks(generated.surface)
     if args.plot:
         from rve_rod.homogenize.plot import plot_surface  # noqa: PLC0415 (matplotlib on demand)
 
         print(f"wrote {plot_surface(generated.surface, args.plot)}")
     return 0
+
+
+def print_checks(surface: ResponseSurface) -> None:
+    """The surface's acceptance checks (`rve_rod.homogenize.acceptance`), one line each."""
+    checks = surface.parameters.get("checks")
+    if checks is None:
+        print("checks: not recorded (a file from before the checks)")
+        return
+    print("checks: sign, monotonicity, coverage passed" if not checks else "checks FAILED:")
+    for problem in checks:
+        print(f"  {problem}")
 
 
 def print_report(report: FitReport, title: str) -> None:
@@ -163,6 +176,7 @@ def run_info(args: argparse.Namespace) -> int:
         print(f", {entry['samples']} samples" if "samples" in entry else "")
     report = FitReport(surface.kind, surface.residual_stats(), info["tangent_asymmetry"])
     print_report(report, "fit residuals (relative to the largest |sample| of each group)")
+    print_checks(surface)
     print("parameters:")
     print(json.dumps(info["parameters"], indent=2, sort_keys=True))
     return 0

@@ -5,8 +5,8 @@ import logging
 import numpy as np
 import pytest
 
-from knitmech.stages import softest_normal_tangents, surface_summary
-from rve_rod.surface import ResponseSurface, Spline1D, Spline2D
+from knitmech.stages import surface_summary
+from rve_rod.surface import ResponseSurface, Spline1D, Spline2D, softest_normal_tangents
 
 DOMAIN = (-0.1, 0.3)
 
