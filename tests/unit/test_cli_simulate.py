@@ -2,6 +2,7 @@
 at a coarse resolution."""
 
 import json
+import logging
 
 import meshio
 import numpy as np
@@ -70,7 +71,8 @@ def test_a_run_that_stops_writes_what_converged_and_exits_3(tmp_path, monkeypatc
     assert plot.exists()
 
 
-def test_a_run_beyond_the_penetration_limit_stops_at_it(capsys):
+def test_a_run_beyond_the_penetration_limit_stops_at_it(capsys, caplog):
+    caplog.set_level(logging.INFO)
     limit = 0.1
     extra = ["--case", "uniaxial-wale", "--steps", "11", "--penetration-limit", str(limit)]
     code = main([*ARGS, *extra, "--json"])
@@ -81,6 +83,9 @@ def test_a_run_beyond_the_penetration_limit_stops_at_it(capsys):
     penetration = np.array(data["max_penetration"]) / data["adjusted_radius"]
     assert 0.0 < penetration.max() <= limit
     assert "exceeds the limit of 0.1 r" in captured.err
+    # the expected stop is one message; the step cutbacks on the way are details (-v)
+    cutbacks = [r for r in caplog.records if "increment cut" in r.getMessage()]
+    assert cutbacks and all(r.levelno == logging.INFO for r in cutbacks)
 
 
 @pytest.mark.parametrize(
