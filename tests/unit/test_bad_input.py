@@ -9,11 +9,15 @@ row's TOML lines. The broken-pipe rows run the installed scripts with a reader t
 stdout at once.
 """
 
+import shutil
 import subprocess
 import sys
 from pathlib import Path
 
+import h5py
+import numpy as np
 import pytest
+from PIL import Image
 
 import fabric_dolfinx.cli
 import knitmech.cli
@@ -24,6 +28,7 @@ import rve_rod.cli.measure
 import rve_rod.cli.simulate
 import rve_rod.cli.surface
 from knitmech.scene import default_surface_path
+from rve_rod.imaging.synthetic import SyntheticPhoto, render_photo
 from rve_rod.limits import available_cores
 
 TOOLS = {
@@ -147,3 +152,57 @@ def test_a_closed_stdout_ends_quietly_with_141(command):
     )
     assert shell.stdout.strip() == "141"
     assert shell.stderr == ""
+
+
+@pytest.fixture(scope="module")
+def photo(tmp_path_factory):
+    """A synthetic photo of single jersey, w = 1.33 mm and c = 1.26 mm at 20 px/mm."""
+    knit = SyntheticPhoto(
+        wale_width=1.33,
+        course_height=1.26,
+        minimal_radius=0.19,
+        pixels_per_mm=20.0,
+        width_px=400,
+        height_px=400,
+    )
+    path = tmp_path_factory.mktemp("photo") / "knit.png"
+    Image.fromarray((255 * render_photo(knit)).astype(np.uint8)).save(path)
+    return path
+
+
+@pytest.fixture(scope="module")
+def mpa_surface(tmp_path_factory):
+    """The shipped surface file with its units attribute saying MPa."""
+    path = tmp_path_factory.mktemp("surface") / "mpa.h5"
+    shutil.copyfile(default_surface_path(), path)
+    with h5py.File(path, "r+") as h5:
+        h5.attrs["units"] = "E: 1 (Green-Lagrange); S: MPa"
+    return path
+
+
+# rows whose check needs the work done (a measurement, a file read): arguments, status, words
+CHECKED = [
+    ("measure {photo} --pixels-per-mm 1e9", 2, "pixels_per_mm=1e+09 gives wale_width = 2.66e-08"),
+    ("measure {photo} --pixels-per-mm 0.01", 2, "pixels_per_mm=0.01 gives wale_width = 2660 mm"),
+    ("surface-info {mpa}", 2, "units='E: 1 (Green-Lagrange); S: MPa': this reader reads"),
+]
+
+
+@pytest.mark.parametrize("row", CHECKED, ids=[row[0] for row in CHECKED])
+def test_implausible_results_and_files_are_refused(row, photo, mpa_surface, capsys):
+    arguments, status, words = row
+    argv = arguments.format(photo=photo, mpa=mpa_surface).split()
+    assert rve_rod.cli.main(argv) == status
+    error = capsys.readouterr().err
+    assert words in error and error.count("\n") == 1
+
+
+def test_a_yarn_radius_cut_to_w_over_8_is_said():
+    arguments = "geometry --wale-width 1.33 --course-height 1.26 --yarn-radius 5"
+    run = subprocess.run(
+        [str(BIN / "rve-rod"), *arguments.split()], capture_output=True, text=True, check=False
+    )
+    assert run.returncode == 0
+    message = "yarn_radius=5 mm is larger than wale_width/8: the model uses r = w/8 = 0.1663 mm"
+    assert message in run.stderr
+    assert "yarn radius        0.1663 mm (adjusted to w/8)" in run.stdout
