@@ -72,7 +72,7 @@ FIELD_STRAINS = {"course": 0.10, "wale": 0.09}
 """Strains of the stress maps (the paper's Figure 8: 10 % course-wise, 9 % wale-wise); the
 nearest load step is used."""
 
-STAGE_VERSION = 1
+STAGE_VERSION = 2
 """Part of every stage's cache key: raised whenever what a stage computes or writes changes
 without a new package version (the package version is part of every key already)."""
 

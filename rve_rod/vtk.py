@@ -49,3 +49,28 @@ def write_polylines(
     )
     meshio.Mesh(np.vstack(points), [("line", np.vstack(lines))], point_data=data).write(path)
     return path
+
+
+def write_pvd(path: str | Path, files: list[Path], times: list[float]) -> Path:
+    """Write a ParaView collection (.pvd) of a series of files, one time value each (e.g. the
+    strain of each state): open it instead of the files to step through the series.
+
+    Args:
+        path: the .pvd file; the series' files are referenced relative to its folder.
+        files: the files of the series, in order.
+        times: one value per file (ParaView's time).
+    """
+    path = Path(path)
+    if len(files) != len(times):
+        raise InputError(f"write_pvd: {len(files)} files but {len(times)} times")
+    datasets = "\n".join(
+        f'    <DataSet timestep="{time:.9g}" part="0" file="{name}"/>'
+        for name, time in zip(
+            (Path(file).relative_to(path.parent) for file in files), times, strict=True
+        )
+    )
+    path.write_text(
+        '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n'
+        f"{datasets}\n  </Collection>\n</VTKFile>\n"
+    )
+    return path

@@ -12,14 +12,16 @@ import numpy as np
 
 from rve_rod.errors import InputError
 from rve_rod.rve.simulation import RveResult
-from rve_rod.vtk import write_polylines
+from rve_rod.vtk import write_polylines, write_pvd
 
 SAMPLES_PER_QUARTER = 48
 """Polyline points per quarter loop."""
 
 
 def write_vtk(result: RveResult, folder, neighbours: int = 1) -> list[Path]:
-    """Write `state_000.vtu`, ... into `folder` (created if missing); returns the paths."""
+    """Write `state_000.vtu`, ... into `folder` (created if missing) and `states.pvd`, their
+    collection with the strain of each state as its time (open it in ParaView); returns the
+    paths, the .pvd last."""
     folder = Path(folder)
     if folder.exists() and not folder.is_dir():
         raise InputError(f"--vtk {folder} exists and is not a folder")
@@ -47,4 +49,5 @@ def write_vtk(result: RveResult, folder, neighbours: int = 1) -> list[Path]:
         path = folder / f"state_{index:03d}.vtu"
         write_polylines(path, [centreline + offset for offset in offsets], result.yarn.radius, data)
         paths.append(path)
-    return paths
+    strains = [step.strain for step in result.steps]
+    return [*paths, write_pvd(folder / "states.pvd", paths, strains)]

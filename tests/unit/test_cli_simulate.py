@@ -3,6 +3,7 @@ at a coarse resolution."""
 
 import json
 import logging
+from xml.etree import ElementTree
 
 import meshio
 import numpy as np
@@ -31,9 +32,13 @@ def test_json_is_the_only_stdout_and_progress_goes_to_stderr(tmp_path, capsys):
     assert data["wall_time_s"] > 0 and data["case"] == "uniaxial-course"
     assert captured.err.count("strain") == 5  # one progress line per state
     assert plot.stat().st_size > 10_000
-    files = sorted(vtk.iterdir())
+    files = sorted(vtk.glob("*.vtu"))
     assert [f.name for f in files] == [f"state_{k:03d}.vtu" for k in range(5)]
-    assert data["files"] == [str(plot), *map(str, files)]
+    assert data["files"] == [str(plot), *map(str, files), str(vtk / "states.pvd")]
+    collection = ElementTree.parse(vtk / "states.pvd").getroot()
+    datasets = collection.findall("Collection/DataSet")
+    assert [d.get("file") for d in datasets] == [f.name for f in files]
+    assert [float(d.get("timestep")) for d in datasets] == pytest.approx(data["strain"])
     mesh = meshio.read(files[-1])
     assert mesh.point_data["radius"][0] == pytest.approx(0.16)
     # 9 yarn pieces (cell and neighbours); the cell's one spans F a1 = (1.2 w, 0, 0)
