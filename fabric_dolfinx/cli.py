@@ -30,6 +30,7 @@ from fabric_dolfinx.tension_spec import TensionTest
 from rve_rod import limits
 from rve_rod.errors import ConvergenceError, InputError, cli_exit_status, terminate_as_interrupt
 from rve_rod.help_format import HelpFormatter
+from rve_rod.log_setup import install_handler
 from rve_rod.outputs import check_output_file, ignore_broken_pipe
 from rve_rod.surface import read_surface
 
@@ -208,7 +209,7 @@ def main(argv: list[str] | None = None) -> int:
         handler.setFormatter(
             logging.Formatter(f"[rank {rank}] %(levelname)s %(name)s: %(message)s")
         )
-        logging.basicConfig(level=handler.level, handlers=[handler])
+        install_handler(handler, handler.level)
         return int(args.run(args) or 0)
     except (Exception, KeyboardInterrupt) as error:
         return cli_exit_status(f"{PROGRAM} {command}", error, quiet=rank != 0)

@@ -27,6 +27,7 @@ from rve_rod.errors import InputError, cli_exit_status, terminate_as_interrupt
 from rve_rod.help_format import HelpFormatter
 from rve_rod.homogenize.generate import GenerationError
 from rve_rod.limits import available_cores
+from rve_rod.log_setup import install_handler
 from rve_rod.outputs import check_output_folder, ignore_broken_pipe
 
 __all__ = [
@@ -107,7 +108,7 @@ def _configure_logging(args: argparse.Namespace) -> None:
         handler.addFilter(_our_progress_or_warnings)
         # the RVE's step cutbacks are solver details (-v shows them)
         logging.getLogger("rve_rod.newton").setLevel(logging.ERROR)
-    logging.basicConfig(level=level, handlers=[handler])
+    install_handler(handler, level)
 
 
 def run_command(args: argparse.Namespace) -> int:

@@ -16,6 +16,7 @@ import sys
 from rve_rod import __version__
 from rve_rod.errors import cli_exit_status, terminate_as_interrupt
 from rve_rod.help_format import HelpFormatter
+from rve_rod.log_setup import install_handler
 
 __all__ = [
     "SUBCOMMANDS",
@@ -53,10 +54,10 @@ def main(argv: list[str] | None = None) -> int:
     terminate_as_interrupt()
     parser = build_parser()
     args = parser.parse_args(argv)
-    logging.basicConfig(
-        level=logging.WARNING - 10 * min(args.verbose, 2),
-        format="%(levelname)s %(name)s: %(message)s",
-    )
+    handler = logging.StreamHandler()
+    handler.setLevel(logging.WARNING - 10 * min(args.verbose, 2))
+    handler.setFormatter(logging.Formatter("%(levelname)s %(name)s: %(message)s"))
+    install_handler(handler, handler.level)
     try:
         return int(args.run(args) or 0)
     except (Exception, KeyboardInterrupt) as error:
