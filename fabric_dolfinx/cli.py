@@ -7,10 +7,13 @@
 Run it under `mpirun -n N` as it is; rank 0 prints. Bad input (`InputError`, including
 unusable arguments) prints one line and exits with status 2; a solve that cannot converge
 (`ConvergenceError`) prints one line and exits with status 3 after the converged steps were
-written (JSON, plot, XDMF); Ctrl-C exits with 130 (`rve_rod.errors.cli_exit_status`).
+written (JSON, plot, XDMF); Ctrl-C exits with 130, SIGTERM with 143, a closed stdout
+(`| head`) with 141 (`rve_rod.errors.cli_exit_status`). Output paths are checked before the
+run (`rve_rod.outputs`).
 """
 
 import argparse
+import functools
 import json
 import logging
 import sys
@@ -24,7 +27,17 @@ from fabric_dolfinx.plot import plot_force_strain
 from fabric_dolfinx.solve import SolverOptions
 from fabric_dolfinx.tension import TensionSetup
 from fabric_dolfinx.tension_spec import TensionTest
-from rve_rod.errors import CommandLineParser, ConvergenceError, InputError, cli_exit_status
+from rve_rod import limits
+from rve_rod.errors import (
+    CommandLineParser,
+    ConvergenceError,
+    InputError,
+    cli_exit_status,
+    terminate_as_interrupt,
+)
+from rve_rod.help_format import HelpFormatter
+from rve_rod.log_setup import install_handler
+from rve_rod.outputs import check_output_file, ignore_broken_pipe
 from rve_rod.surface import read_surface
 
 __all__ = [
@@ -47,13 +60,33 @@ def _svk(text: str):
     return OrthotropicSVK(*values)
 
 
+def _joined_negative_values(argv: list[str]) -> list[str]:
+    """`--svk -1,2,0.3,1` as `--svk=-1,2,0.3,1`: argparse takes a value that starts with "-"
+    and is not one number for an option (the material check then names the bad value)."""
+    joined, arguments = [], iter(argv)
+    for argument in arguments:
+        if argument == "--svk":
+            value = next(arguments, None)
+            joined.append(argument if value is None else f"--svk={value}")
+        else:
+            joined.append(argument)
+    return joined
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with its subcommands."""
     parser = CommandLineParser(
-        prog=PROGRAM, description="Fabric-scale membrane simulations with DOLFINx."
+        prog=PROGRAM,
+        description="Fabric-scale membrane simulations with DOLFINx.",
+        formatter_class=HelpFormatter,
     )
     parser.add_argument("-v", "--verbose", action="count", default=0, help="more log output")
-    subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    subparsers = parser.add_subparsers(
+        dest="command",
+        required=True,
+        metavar="COMMAND",
+        parser_class=functools.partial(CommandLineParser, formatter_class=HelpFormatter),
+    )
     tension = subparsers.add_parser(
         "tension",
         help="uniaxial tension of a square patch between clamps",
@@ -67,9 +100,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     tension.add_argument("--direction", default="course", help="course (x) or wale (y)")
     tension.add_argument("--size", type=float, default=50.0, help="side of the patch (mm)")
-    tension.add_argument("--elements", type=int, default=10, help="elements per side")
+    low, high = limits.ELEMENTS
+    tension.add_argument(
+        "--elements", type=int, default=10, help=f"elements per side, {low} to {high}"
+    )
     tension.add_argument("--max-strain", type=float, default=0.2, help="final nominal strain")
-    tension.add_argument("--steps", type=int, default=20, help="load steps")
+    low, high = limits.MACRO_STEPS
+    tension.add_argument("--steps", type=int, default=20, help=f"load steps, {low} to {high}")
     tension.add_argument(
         "--angle", type=float, default=0.0, help="course direction against x (degrees)"
     )
@@ -86,6 +123,9 @@ def build_parser() -> argparse.ArgumentParser:
 def run_tension_command(args: argparse.Namespace) -> int:
     """The `tension` subcommand; returns the exit status."""
     comm = MPI.COMM_WORLD
+    for name, path in (("--xdmf", args.xdmf), ("--plot", args.plot)):
+        if path is not None:
+            check_output_file(name, path)
     test = TensionTest(
         direction=args.direction,
         size=args.size,
@@ -118,6 +158,7 @@ def _report(args, test, material_name, result, *, converged, rve) -> None:
         plot_force_strain(curves, args.plot, rve=rve, comm=comm)
     if comm.rank != 0:
         return
+    ignore_broken_pipe()
     if args.json:
         payload = {
             "direction": test.direction,
@@ -155,8 +196,11 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point of `fabric-dolfinx`; returns the process exit status."""
     rank = MPI.COMM_WORLD.rank
     command = ""
+    terminate_as_interrupt()
     try:
-        args = build_parser().parse_args(argv)
+        args = build_parser().parse_args(
+            _joined_negative_values(sys.argv[1:] if argv is None else argv)
+        )
         command = args.command
         # The level sits on the handler: the JIT's distutils build lowers the root logger's.
         handler = logging.StreamHandler()
@@ -164,7 +208,7 @@ def main(argv: list[str] | None = None) -> int:
         handler.setFormatter(
             logging.Formatter(f"[rank {rank}] %(levelname)s %(name)s: %(message)s")
         )
-        logging.basicConfig(level=handler.level, handlers=[handler])
+        install_handler(handler, handler.level)
         return int(args.run(args) or 0)
     except (Exception, KeyboardInterrupt) as error:
         return cli_exit_status(f"{PROGRAM} {command}", error, quiet=rank != 0)

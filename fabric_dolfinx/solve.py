@@ -30,6 +30,7 @@ import ufl
 from dolfinx import fem
 from petsc4py import PETSc
 
+from rve_rod import limits
 from rve_rod.errors import (
     ConvergenceError,
     InputError,
@@ -37,6 +38,7 @@ from rve_rod.errors import (
     check_positive,
     check_range,
 )
+from rve_rod.limits import check_count
 from rve_rod.stepping import StepController, SteppingOptions
 
 __all__ = [
@@ -95,7 +97,7 @@ class SolverOptions:
             raise InputError(
                 f"linear_solver={self.linear_solver!r} is not one of {', '.join(LINEAR_SOLVERS)}"
             )
-        check_integer("steps", self.steps, 1)
+        check_count("steps", self.steps, limits.MACRO_STEPS)
         check_positive("relative_tolerance", self.relative_tolerance)
         check_positive("absolute_tolerance", self.absolute_tolerance, "N")
         check_range("floor_tolerance", self.floor_tolerance, 0.0, 1.0)

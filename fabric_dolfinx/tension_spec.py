@@ -5,7 +5,9 @@
 
 from dataclasses import dataclass
 
+from rve_rod import limits
 from rve_rod.errors import InputError, check_integer, check_positive, check_range
+from rve_rod.limits import check_count
 
 __all__ = ["DIRECTIONS", "TensionTest"]
 
@@ -39,7 +41,7 @@ class TensionTest:
         if self.direction not in DIRECTIONS:
             raise InputError(f"direction={self.direction!r} is not one of {', '.join(DIRECTIONS)}")
         check_positive("size", self.size, "mm")
-        check_integer("elements", self.elements, 1, 4000)
+        check_count("elements", self.elements, limits.ELEMENTS)
         check_range("max_strain", self.max_strain, 0.0, 1.0, closed=False)
         check_range("angle", self.angle, -360.0, 360.0, "degrees")
         check_integer("element_degree", self.element_degree, 1, 2)

@@ -6,14 +6,15 @@
 Without a scene file it runs the built-in default scene (cotton 20s/2, stitch 5.5, the
 paper's 50 mm patch course- and wale-wise). Progress goes to stderr; the summary table (or,
 with --json, summary.json) to stdout. Exit status (`rve_rod.errors.cli_exit_status`): 0 done;
-1 a stage failed and 130 interrupted (run the same command again to resume from what
-finished); 2 bad input, with one line per problem of a scene; 3 a solver gave up.
+1 a stage failed, 130 interrupted (Ctrl-C) and 143 terminated (SIGTERM; the MPI children
+are stopped too): run the same command again to resume from what finished; 2 bad input, with
+one line per problem of a scene; 3 a solver gave up; 141 stdout closed by its reader.
 """
 
 import argparse
+import functools
 import json
 import logging
-import os
 import sys
 
 from knitmech.fidelity import LEVELS
@@ -22,12 +23,15 @@ from knitmech.scene import load_scene
 from knitmech.stages import StageError
 from rve_rod import __version__
 from rve_rod.cache import default_cache_root
-from rve_rod.errors import CommandLineParser, cli_exit_status
+from rve_rod.errors import CommandLineParser, cli_exit_status, terminate_as_interrupt
+from rve_rod.help_format import HelpFormatter
 from rve_rod.homogenize.generate import GenerationError
+from rve_rod.limits import available_cores
+from rve_rod.log_setup import install_handler
+from rve_rod.outputs import check_output_folder, ignore_broken_pipe
 
 __all__ = [
     "PROGRAM",
-    "available_cores",
     "build_parser",
     "main",
     "run_command",
@@ -36,18 +40,20 @@ __all__ = [
 PROGRAM = "knitmech"
 
 
-def available_cores() -> int:
-    """CPU cores this process may use."""
-    return len(os.sched_getaffinity(0))
-
-
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with its subcommands."""
     parser = CommandLineParser(
-        prog=PROGRAM, description="Knitted-fabric mechanics from yarn to fabric."
+        prog=PROGRAM,
+        description="Knitted-fabric mechanics from yarn to fabric.",
+        formatter_class=HelpFormatter,
     )
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
-    subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    subparsers = parser.add_subparsers(
+        dest="command",
+        required=True,
+        metavar="COMMAND",
+        parser_class=functools.partial(CommandLineParser, formatter_class=HelpFormatter),
+    )
     run = subparsers.add_parser(
         "run",
         help="run a scene: geometry, RVE runs, response surface, fabric patch",
@@ -56,7 +62,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument("scene", nargs="?", help="scene file (TOML; default: the built-in scene)")
     run.add_argument("--fidelity", choices=tuple(LEVELS), help="override the scene's level")
-    run.add_argument("-o", "--output", default="results", help="results folder (default results)")
+    run.add_argument("-o", "--output", default="results", help="results folder")
     run.add_argument(
         "--jobs",
         type=int,
@@ -65,6 +71,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument(
         "--cache-dir", help=f"stage and RVE-run cache (default {default_cache_root()})"
+    )
+    run.add_argument(
+        "--oversubscribe",
+        action="store_true",
+        help=f"allow macro.ranks above the cores ({available_cores()})",
     )
     run.add_argument("--json", action="store_true", help="print summary.json instead of a table")
     verbosity = run.add_mutually_exclusive_group()
@@ -89,12 +100,15 @@ def _configure_logging(args: argparse.Namespace) -> None:
         handler.addFilter(_our_progress_or_warnings)
         # the RVE's step cutbacks are solver details (-v shows them)
         logging.getLogger("rve_rod.newton").setLevel(logging.ERROR)
-    logging.basicConfig(level=level, handlers=[handler])
+    install_handler(handler, level)
 
 
 def run_command(args: argparse.Namespace) -> int:
     """The `run` subcommand; returns the exit status."""
     _configure_logging(args)
+    check_output_folder("--output", args.output)
+    if args.cache_dir is not None:
+        check_output_folder("--cache-dir", args.cache_dir)
     scene = load_scene(args.scene)
     result = run_scene(
         scene,
@@ -103,7 +117,9 @@ def run_command(args: argparse.Namespace) -> int:
         cache_dir=args.cache_dir,
         jobs=args.jobs,
         progress=None if args.quiet else sys.stderr,
+        oversubscribe=args.oversubscribe,
     )
+    ignore_broken_pipe()
     if args.json:
         json.dump(result.summary, sys.stdout, indent=1)
         sys.stdout.write("\n")
@@ -116,6 +132,7 @@ def run_command(args: argparse.Namespace) -> int:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of `knitmech`; returns the process exit status."""
     command = ""
+    terminate_as_interrupt()
     try:
         args = build_parser().parse_args(argv)
         command = args.command

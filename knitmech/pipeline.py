@@ -33,7 +33,7 @@ from knitmech.report import (
     summary_table,
 )
 from knitmech.scene import Scene, SceneError
-from knitmech.stage_cache import GIVEN, Stage, StageCache, StageRecord
+from knitmech.stage_cache import GIVEN, Stage, StageCache, StageRecord, remove_stale_work
 from knitmech.stages import (
     SURFACE_FIGURE,
     SURFACE_FILE,
@@ -50,6 +50,8 @@ from rve_rod import __version__
 from rve_rod.cache import ResultCache, default_cache_root
 from rve_rod.errors import InputError, check_integer
 from rve_rod.jsonable import to_jsonable
+from rve_rod.limits import available_cores
+from rve_rod.outputs import check_output_folder
 from rve_rod.surface import read_surface
 
 __all__ = [
@@ -82,8 +84,9 @@ class PipelineResult(NamedTuple):
     table: str
 
 
-def check_plan(plan: RunPlan) -> None:
-    """Problems a scene file alone does not show: an unreadable surface file, no mpirun.
+def check_plan(plan: RunPlan, *, oversubscribe: bool = False) -> None:
+    """Problems a scene file alone does not show: an unreadable surface file, no mpirun, more
+    MPI ranks than cores (unless `oversubscribe`).
 
     Raises SceneError listing every problem (one per key)."""
     problems = []
@@ -94,6 +97,12 @@ def check_plan(plan: RunPlan) -> None:
             problems.append(f"surface.path: {error}")
     if plan.scene.macro.ranks > 1 and shutil.which("mpirun") is None:
         problems.append(f"macro.ranks: {plan.scene.macro.ranks} needs mpirun, not on PATH")
+    cores = available_cores()
+    if plan.scene.macro.ranks > cores and not oversubscribe:
+        problems.append(
+            f"macro.ranks: {plan.scene.macro.ranks} is outside the valid range [1, {cores}] "
+            "(the cores of this machine; --oversubscribe allows more)"
+        )
     if problems:
         raise SceneError(repr(plan.scene.name), problems)
 
@@ -106,6 +115,7 @@ def run_scene(
     cache_dir: Path | str | None = None,
     jobs: int = 1,
     progress: TextIO | None = None,
+    oversubscribe: bool = False,
 ) -> PipelineResult:
     """Run every stage of `scene` and write the results folder.
 
@@ -117,17 +127,23 @@ def run_scene(
             shared with `rve-rod surface`); default `rve_rod.cache.default_cache_root()`.
         jobs: worker processes for the surface's RVE runs.
         progress: stream for the progress bar of the RVE runs (None: none).
+        oversubscribe: allow more MPI ranks (macro.ranks) than cores.
 
     Raises:
         SceneError: the scene cannot run (before anything is computed).
+        InputError: `output` or `cache_dir` cannot be written (`rve_rod.outputs`).
     """
     started = time.perf_counter()
     check_integer("jobs", jobs, 1, 256)
+    folder = check_output_folder("output", output)
+    if cache_dir is not None:
+        cache_dir = check_output_folder("cache_dir", cache_dir)
     plan = plan_run(scene, fidelity_level(fidelity or scene.fidelity))
-    check_plan(plan)
-    cache_dir = Path(cache_dir) if cache_dir is not None else default_cache_root()
-    folder = Path(output)
+    check_plan(plan, oversubscribe=oversubscribe)
+    cache_dir = cache_dir if cache_dir is not None else default_cache_root()
     _clear_previous(folder)
+    if folder.is_dir():
+        remove_stale_work(folder)
     stages = StageCache(cache_dir / "stages")
     records: list[StageRecord] = []
 

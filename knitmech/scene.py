@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from knitmech.fidelity import DEFAULT, LEVELS, Fidelity
+from rve_rod import limits
 from rve_rod.errors import InputError
 from rve_rod.presets import Fabric, load_preset, make_fabric
 
@@ -363,17 +364,17 @@ def _check_values(parts: dict, problems: list[str], base: Path | None) -> None:
             f"surface.max_compression: {surface.max_compression} is outside the valid range "
             "[0.0, 0.5]"
         )
-    minimums = (
-        ("meso.steps", meso.steps, 2),
-        ("meso.control_points", meso.control_points, 12),
-        ("surface.rays", surface.rays, 3),
-        ("macro.elements", macro.elements, 1),
-        ("macro.steps", macro.steps, 1),
-        ("macro.ranks", macro.ranks, 1),
+    counts = (  # the ranges of rve_rod.limits; macro.ranks' upper bound: pipeline.check_plan
+        ("meso.steps", meso.steps, limits.RVE_STEPS),
+        ("meso.control_points", meso.control_points, limits.CONTROL_POINTS),
+        ("surface.rays", surface.rays, limits.RAYS),
+        ("macro.elements", macro.elements, limits.ELEMENTS),
+        ("macro.steps", macro.steps, limits.MACRO_STEPS),
+        ("macro.ranks", macro.ranks, (1, math.inf)),
     )
-    for key, value, low in minimums:
-        if value is not None and value < low:
-            problems.append(f"{key}: {value} must be >= {low}")
+    for key, value, (low, high) in counts:
+        if value is not None and not low <= value <= high:
+            problems.append(f"{key}: {value} is outside the valid range [{low}, {high}]")
 
 
 def _toml_value(value: Any) -> str:

@@ -33,6 +33,7 @@ __all__ = [
     "StageCache",
     "StageRecord",
     "StageResult",
+    "remove_stale_work",
 ]
 
 logger = logging.getLogger(__name__)
@@ -40,6 +41,7 @@ logger = logging.getLogger(__name__)
 COMPUTED, CACHED, GIVEN = "computed", "cached", "given"
 """Statuses of a stage record: computed now, taken from the cache, or given by the scene."""
 
+_WORK_PREFIX = ".stage-"
 _SUMMARY = "summary"
 _FILES = "files"
 
@@ -121,7 +123,7 @@ class StageCache:
             status = CACHED
         else:
             logger.info("%s: computing", _label(stage))
-            with tempfile.TemporaryDirectory(dir=output, prefix=".stage-") as temporary:
+            with tempfile.TemporaryDirectory(dir=output, prefix=_WORK_PREFIX) as temporary:
                 work = Path(temporary)
                 summary = to_jsonable(stage.compute(work))
                 names = sorted(str(p.relative_to(work)) for p in work.rglob("*") if p.is_file())
@@ -147,6 +149,16 @@ class StageCache:
         )
         logger.info("%s: %s in %.2f s", _label(stage), status, record.wall_time_s)
         return StageResult(summary, record)
+
+
+def remove_stale_work(output: Path) -> list[Path]:
+    """Delete the temporary folders of stages a killed run left in `output` (SIGKILL, power
+    loss: nothing could clean up); returns them. Call it before a run, never during one."""
+    stale = sorted(p for p in Path(output).glob(f"{_WORK_PREFIX}*") if p.is_dir())
+    for path in stale:
+        logger.info("removing %s, left by an interrupted run", path)
+        shutil.rmtree(path, ignore_errors=True)
+    return stale
 
 
 def _label(stage: Stage) -> str:

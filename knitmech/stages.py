@@ -7,12 +7,14 @@ stage cache. Files are written relative to the folder `compute` is given: `figur
 `paraview/`, `meso/` and `surface.h5` of the results folder (docs/pipeline.md).
 """
 
+import contextlib
 import dataclasses
 import hashlib
 import json
 import logging
 import os
 import shutil
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -26,6 +28,7 @@ from knitmech.stage_cache import Stage
 from rve_rod.cache import ResultCache
 from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.loop import loop_geometry
+from rve_rod.homogenize.acceptance import SOFTENING_TOLERANCE
 from rve_rod.homogenize.fit import FitOptions
 from rve_rod.homogenize.generate import engine_identity, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
@@ -40,6 +43,7 @@ from rve_rod.vtk import write_vtk
 __all__ = [
     "DIRECTION_CASES",
     "FIELD_STRAINS",
+    "MPI_STOP_TIMEOUT_S",
     "SOFTENING_TOLERANCE",
     "STAGE_VERSION",
     "SURFACE_FIGURE",
@@ -68,7 +72,7 @@ FIELD_STRAINS = {"course": 0.10, "wale": 0.09}
 """Strains of the stress maps (the paper's Figure 8: 10 % course-wise, 9 % wale-wise); the
 nearest load step is used."""
 
-STAGE_VERSION = 1
+STAGE_VERSION = 2
 """Part of every stage's cache key: raised whenever what a stage computes or writes changes
 without a new package version (the package version is part of every key already)."""
 
@@ -258,11 +262,6 @@ def given_surface(path: Path, folder: Path) -> SurfaceSummary:
     return dataclasses.replace(surface_summary(surface), source=str(path))
 
 
-SOFTENING_TOLERANCE = 1e-9
-"""A normal stiffness below -SOFTENING_TOLERANCE times its largest value on the domain is
-warned of; above, it is round-off of a fit held at zero slope (the monotone stress fit)."""
-
-
 def surface_summary(surface) -> SurfaceSummary:
     """Kind, domain, residuals and softest normal stiffness of a surface (warned if < 0
     beyond round-off)."""
@@ -338,6 +337,42 @@ def _macro_compute(job: PatchJob, surface_path: Path, ranks: int):
     return compute
 
 
+MPI_STOP_TIMEOUT_S = 10.0
+"""Seconds mpirun and its ranks get to end after SIGTERM before they are killed."""
+
+
+def _run_group(command: list[str], environment: dict) -> tuple[int, str]:
+    """Run `command` in a process group of its own; returns its exit status and stderr.
+
+    On any interruption (Ctrl-C, SIGTERM as `rve_rod.errors.Terminated`, an error) the whole
+    group (mpirun and every rank) is sent SIGTERM, and SIGKILL after MPI_STOP_TIMEOUT_S, and
+    waited for, so that no rank outlives the run or writes into a folder being removed.
+    """
+    process = subprocess.Popen(
+        command,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=environment,
+        start_new_session=True,
+    )
+    try:
+        _, stderr = process.communicate()
+    except BaseException:
+        for signum, timeout in ((signal.SIGTERM, MPI_STOP_TIMEOUT_S), (signal.SIGKILL, None)):
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(process.pid, signum)
+            try:
+                process.wait(timeout)
+                break
+            except subprocess.TimeoutExpired:
+                continue
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(process.pid, signal.SIGKILL)  # ranks that outlived mpirun
+        raise
+    return process.returncode, stderr
+
+
 def _run_patch_mpi(job: PatchJob, surface_path: Path, folder: Path, ranks: int) -> PatchSummary:
     """Run `knitmech.macro` under `mpirun -n ranks`; returns the summary rank 0 wrote."""
     request = folder / ".patch.json"
@@ -362,9 +397,9 @@ def _run_patch_mpi(job: PatchJob, surface_path: Path, folder: Path, ranks: int) 
         "OMPI_MCA_rmaps_base_oversubscribe": "1",
     }
     logger.info("macro %s: %s", job.test.direction, " ".join(command))
-    process = subprocess.run(command, check=False, capture_output=True, text=True, env=environment)
-    if process.returncode != 0:
-        tail = "\n".join(process.stderr.strip().splitlines()[-5:])
+    returncode, stderr = _run_group(command, environment)
+    if returncode != 0:
+        tail = "\n".join(stderr.strip().splitlines()[-5:])
         raise StageError(f"macro {job.test.direction} under mpirun failed: {tail}")
     summary = PatchSummary.from_json(json.loads(summary_path.read_text()))
     for path in (request, summary_path):

@@ -6,28 +6,35 @@ tools print its one-line message and exit with status 2. `ConvergenceError` is w
 raises when it cannot go on; it carries everything that converged before it stopped (exit
 status 3). `cli_exit_status` is the one mapping of the three tools (`rve-rod`,
 `fabric-dolfinx`, `knitmech`), and `CommandLineParser` their argument parser, whose usage errors
-are InputErrors.
+are InputErrors; `terminate_as_interrupt` makes SIGTERM unwind a tool like Ctrl-C (children
+stopped, temporary folders removed) and exit with 143.
 """
 
 import argparse
 import math
 import numbers
+import os
+import signal
 import sys
 from typing import Any
 
 __all__ = [
+    "EXIT_BROKEN_PIPE",
     "EXIT_INPUT",
     "EXIT_INTERRUPTED",
     "EXIT_NOT_CONVERGED",
     "EXIT_STOPPED",
+    "EXIT_TERMINATED",
     "CommandLineParser",
     "ConvergenceError",
     "InputError",
+    "Terminated",
     "check_finite",
     "check_integer",
     "check_positive",
     "check_range",
     "cli_exit_status",
+    "terminate_as_interrupt",
 ]
 
 EXIT_STOPPED = 1
@@ -38,6 +45,10 @@ EXIT_NOT_CONVERGED = 3
 """Exit status of a solver that gave up (`ConvergenceError`) after saving what converged."""
 EXIT_INTERRUPTED = 130
 """Exit status after Ctrl-C (128 + SIGINT, as shells report it)."""
+EXIT_TERMINATED = 128 + signal.SIGTERM
+"""Exit status after SIGTERM (143)."""
+EXIT_BROKEN_PIPE = 128 + signal.SIGPIPE
+"""Exit status when stdout was closed by its reader (141, as `yes | head` reports it)."""
 
 
 class InputError(ValueError):
@@ -56,6 +67,20 @@ class ConvergenceError(RuntimeError):
         super().__init__(message)
         self.last_converged = last_converged
         self.history = history
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM arrived (raised by the handler of `terminate_as_interrupt`): a subclass of
+    KeyboardInterrupt, so that everything that cleans up after Ctrl-C does so after it too."""
+
+
+def _raise_terminated(signum, frame):
+    raise Terminated()
+
+
+def terminate_as_interrupt() -> None:
+    """Make SIGTERM raise `Terminated` in the main thread (call it from a tool's main)."""
+    signal.signal(signal.SIGTERM, _raise_terminated)
 
 
 def _format(value: float) -> str:
@@ -133,17 +158,27 @@ def cli_exit_status(
 
     InputError -> EXIT_INPUT ("error: ..."), ConvergenceError -> EXIT_NOT_CONVERGED
     ("not converged: ..."), an error of a `resumable` type -> EXIT_STOPPED ("stopped: ...;
-    run again to resume"), KeyboardInterrupt -> EXIT_INTERRUPTED ("interrupted"). Any other
-    error (SystemExit of --help included) is raised again. `quiet` prints nothing (MPI ranks
-    other than 0).
+    run again to resume"), Terminated (SIGTERM) -> EXIT_TERMINATED ("terminated"),
+    KeyboardInterrupt -> EXIT_INTERRUPTED ("interrupted"), BrokenPipeError (the reader of
+    stdout, e.g. `head`, closed it) -> EXIT_BROKEN_PIPE with nothing printed and stdout sent
+    to /dev/null (so that the interpreter's final flush does not fail again). Any other error
+    (SystemExit of --help included) is raised again. `quiet` prints nothing (MPI ranks other
+    than 0).
     """
     resume = "; run again to resume" if resumable else ""
+    if isinstance(error, BrokenPipeError):
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+        return EXIT_BROKEN_PIPE
     if isinstance(error, InputError):
         status, line = EXIT_INPUT, f"error: {error}"
     elif isinstance(error, ConvergenceError):
         status, line = EXIT_NOT_CONVERGED, f"not converged: {error}"
     elif isinstance(error, resumable):
         status, line = EXIT_STOPPED, f"stopped: {error}{resume}"
+    elif isinstance(error, Terminated):
+        status, line = EXIT_TERMINATED, f"terminated{resume}"
     elif isinstance(error, KeyboardInterrupt):
         status, line = EXIT_INTERRUPTED, f"interrupted{resume}"
     else:

@@ -327,7 +327,7 @@ def solve_path(
             continue
         stop = controller.reject(trial)
         result.cutbacks = controller.total_cutbacks
-        logger.warning(
+        logger.info(  # a solver detail (-v); the caller reports a stop once
             "t=%.6g not reached from t=%.6g (%s after %d iterations); increment cut to %.3g",
             trial,
             t,

@@ -13,6 +13,9 @@ from importlib.resources import files
 from rve_rod.errors import InputError, check_positive, check_range
 
 __all__ = [
+    "MAX_COURSE_HEIGHT_RADII",
+    "MAX_WALE_WIDTH_RADII",
+    "MAX_YOUNGS_MODULUS",
     "Fabric",
     "Knit",
     "Yarn",
@@ -22,6 +25,14 @@ __all__ = [
     "reference_data",
     "stitch_values",
 ]
+
+
+MAX_YOUNGS_MODULUS = 1e6
+"""Largest Young's modulus of a yarn (MPa)."""
+MAX_WALE_WIDTH_RADII = 150.0
+"""Largest wale width of a fabric, in minimal yarn radii r0 (no loop fits beyond)."""
+MAX_COURSE_HEIGHT_RADII = 70.0
+"""Largest course height of a fabric, in minimal yarn radii r0 (no loop fits beyond)."""
 
 
 @dataclass(frozen=True)
@@ -45,6 +56,8 @@ class Yarn:
     def __post_init__(self):
         check_positive("yarn_radius", self.minimal_radius, "mm")
         check_positive("youngs_modulus", self.youngs_modulus, "MPa")
+        # stiffer than any fibre (diamond: 1.2e6 MPa); 1e6 converges, 1e12 has no equilibrium
+        check_range("youngs_modulus", self.youngs_modulus, 0.0, MAX_YOUNGS_MODULUS, "MPa")
         check_range("poissons_ratio", self.poissons_ratio, 0.0, 0.5 - 1e-9)
         check_range("friction_coefficient", self.friction_coefficient, 0.0, 10.0)
 
@@ -77,6 +90,20 @@ class Fabric:
     yarn: Yarn
     knit: Knit
     name: str = ""
+
+    def __post_init__(self):
+        # Beyond these proportions no loop of the model fits (measured: c = 80 r0 and w = 200
+        # r0 find none) and far beyond them the loop construction is singular.
+        r0 = self.yarn.minimal_radius
+        for name, value, most in (
+            ("wale_width", self.knit.wale_width, MAX_WALE_WIDTH_RADII),
+            ("course_height", self.knit.course_height, MAX_COURSE_HEIGHT_RADII),
+        ):
+            if value > most * r0:
+                raise InputError(
+                    f"{name}={value:.6g} mm is outside the valid range (0, {most:g} r0] = "
+                    f"(0, {most * r0:.4g}] mm for yarn_radius r0={r0:.4g} mm"
+                )
 
 
 @cache

@@ -23,6 +23,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "write_polylines",
+    "write_pvd",
     "write_vtk",
 ]
 
@@ -69,8 +70,35 @@ def write_polylines(
     return path
 
 
+def write_pvd(path: str | Path, files: list[Path], times: list[float]) -> Path:
+    """Write a ParaView collection (.pvd) of a series of files, one time value each (e.g. the
+    strain of each state): open it instead of the files to step through the series.
+
+    Args:
+        path: the .pvd file; the series' files are referenced relative to its folder.
+        files: the files of the series, in order.
+        times: one value per file (ParaView's time).
+    """
+    path = Path(path)
+    if len(files) != len(times):
+        raise InputError(f"write_pvd: {len(files)} files but {len(times)} times")
+    datasets = "\n".join(
+        f'    <DataSet timestep="{time:.9g}" part="0" file="{name}"/>'
+        for name, time in zip(
+            (Path(file).relative_to(path.parent) for file in files), times, strict=True
+        )
+    )
+    path.write_text(
+        '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n'
+        f"{datasets}\n  </Collection>\n</VTKFile>\n"
+    )
+    return path
+
+
 def write_vtk(result: "RveResult", folder, neighbours: int = 1) -> list[Path]:
-    """Write `state_000.vtu`, ... into `folder` (created if missing); returns the paths."""
+    """Write `state_000.vtu`, ... into `folder` (created if missing) and `states.pvd`, their
+    collection with the strain of each state as its time (open it in ParaView); returns the
+    paths, the .pvd last."""
     folder = Path(folder)
     if folder.exists() and not folder.is_dir():
         raise InputError(f"--vtk {folder} exists and is not a folder")
@@ -98,4 +126,5 @@ def write_vtk(result: "RveResult", folder, neighbours: int = 1) -> list[Path]:
         path = folder / f"state_{index:03d}.vtu"
         write_polylines(path, [centreline + offset for offset in offsets], result.yarn.radius, data)
         paths.append(path)
-    return paths
+    strains = [step.strain for step in result.steps]
+    return [*paths, write_pvd(folder / "states.pvd", paths, strains)]

@@ -5,7 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 debs=(python3-dolfinx python3-gmsh python3-meshio python3-h5py python3-numba python3-scipy
-      python3-numpy python3-mpi4py python3-matplotlib python3-pil python3-venv python3-dev)
+      python3-numpy python3-mpi4py python3-matplotlib python3-pil python3-tqdm python3-venv
+      python3-dev)
 missing=()
 for pkg in "${debs[@]}"; do
     dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" \

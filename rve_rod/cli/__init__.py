@@ -1,17 +1,23 @@
 """The `rve-rod` command: one module per subcommand, each with `register(subparsers)`.
 
 Every subcommand module adds its parser and sets `run=callable(args) -> int`. Bad input
-(`InputError`, including unusable arguments) prints one line and exits with status 2; a solver
-that cannot converge (`ConvergenceError`) prints one line and exits with status 3 after the
-subcommand has saved what converged; Ctrl-C exits with 130 (`rve_rod.errors.cli_exit_status`).
+(`InputError`, including unusable arguments) prints one line and exits with status 2; a
+solver that cannot converge (`ConvergenceError`) prints one line and exits with status 3
+after the subcommand has saved what converged; Ctrl-C exits with 130 and SIGTERM with 143;
+a reader that closes stdout (`| head`) ends it quietly with 141
+(`rve_rod.errors.cli_exit_status`). Output paths are checked before anything is computed
+(`rve_rod.outputs`).
 """
 
 import argparse
+import functools
 import logging
 import sys
 
 from rve_rod import __version__
-from rve_rod.errors import CommandLineParser, cli_exit_status
+from rve_rod.errors import CommandLineParser, cli_exit_status, terminate_as_interrupt
+from rve_rod.help_format import HelpFormatter
+from rve_rod.log_setup import install_handler
 
 __all__ = [
     "SUBCOMMANDS",
@@ -32,7 +38,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     parser.add_argument("-v", "--verbose", action="count", default=0, help="more log output")
-    subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    subparsers = parser.add_subparsers(
+        dest="command",
+        required=True,
+        metavar="COMMAND",
+        parser_class=functools.partial(CommandLineParser, formatter_class=HelpFormatter),
+    )
     for name in SUBCOMMANDS:
         module = __import__(f"rve_rod.cli.{name}", fromlist=["register"])
         module.register(subparsers)
@@ -41,14 +52,15 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of `rve-rod`; returns the process exit status."""
+    terminate_as_interrupt()
     command = ""
     try:
         args = build_parser().parse_args(argv)
         command = args.command
-        logging.basicConfig(
-            level=logging.WARNING - 10 * min(args.verbose, 2),
-            format="%(levelname)s %(name)s: %(message)s",
-        )
+        handler = logging.StreamHandler()
+        handler.setLevel(logging.WARNING - 10 * min(args.verbose, 2))
+        handler.setFormatter(logging.Formatter("%(levelname)s %(name)s: %(message)s"))
+        install_handler(handler, handler.level)
         return int(args.run(args) or 0)
     except (Exception, KeyboardInterrupt) as error:
         return cli_exit_status(f"rve-rod {command}", error)

@@ -5,7 +5,8 @@ import json
 import sys
 
 from rve_rod.jsonable import to_jsonable
-from rve_rod.presets import Fabric, make_fabric, preset_names
+from rve_rod.outputs import ignore_broken_pipe
+from rve_rod.presets import Fabric, make_fabric, preset_names, stitch_values
 
 __all__ = [
     "add_fabric_arguments",
@@ -18,7 +19,14 @@ def add_fabric_arguments(parser: argparse.ArgumentParser) -> None:
     """Add `--preset/--stitch` or explicit `--wale-width/--course-height/--yarn-radius/...`."""
     group = parser.add_argument_group("fabric (a preset, or explicit knit and yarn parameters)")
     group.add_argument("--preset", help=f"built-in fabric: {', '.join(preset_names())}")
-    group.add_argument("--stitch", type=float, help="stitch value of the preset (mm)")
+    stitches = "; ".join(
+        f"{name}: {', '.join(f'{v:g}' for v in stitch_values(name))}"
+        for name in preset_names()
+        if stitch_values(name)
+    )
+    group.add_argument(
+        "--stitch", type=float, help=f"stitch value of the preset (mm; measured: {stitches})"
+    )
     group.add_argument("--wale-width", type=float, help="w, wale width (mm)")
     group.add_argument("--course-height", type=float, help="c, course height (mm)")
     group.add_argument("--yarn-radius", type=float, help="r0, minimal yarn radius (mm)")
@@ -44,5 +52,6 @@ def fabric_from_args(args: argparse.Namespace, *, need_material: bool = True) ->
 
 def print_json(payload: dict) -> None:
     """Write one JSON object to stdout (the whole of stdout for `--json` runs)."""
+    ignore_broken_pipe()
     json.dump(to_jsonable(payload), sys.stdout, indent=2)
     sys.stdout.write("\n")

@@ -8,8 +8,11 @@ status 3 (the error line names where it stopped).
 import argparse
 import sys
 
+from rve_rod import limits
 from rve_rod.cli.common import add_fabric_arguments, fabric_from_args, print_json
 from rve_rod.errors import ConvergenceError
+from rve_rod.limits import check_count
+from rve_rod.outputs import check_output_file, check_output_folder
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import CASES, load_case
 from rve_rod.rve.simulation import (
@@ -45,20 +48,19 @@ def register(subparsers) -> None:
         "shear 0.3; negative: compression)",
     )
     parser.add_argument("--angle", type=float, default=0.0, help="ray angle (deg) of biaxial")
-    parser.add_argument(
-        "--steps", type=int, default=21, help="output states including zero (default 21)"
-    )
+    parser.add_argument("--steps", type=int, default=21, help="output states including zero")
     parser.add_argument(
         "--control-points",
         type=int,
         default=CellSettings().control_points,
-        help="control points per quarter loop (default 68)",
+        help=f"control points per quarter loop, {limits.CONTROL_POINTS[0]} to "
+        f"{limits.CONTROL_POINTS[1]} (the periodic yarn curve has about 4 times as many)",
     )
     parser.add_argument(
         "--penetration-limit",
         type=float,
         default=CellSettings().penetration_limit,
-        help="largest contact penetration 2r - d accepted, in yarn radii (default 1); the "
+        help="largest contact penetration 2r - d accepted, in yarn radii; the "
         "run stops where the yarns would be squeezed further",
     )
     parser.add_argument(
@@ -75,6 +77,11 @@ def register(subparsers) -> None:
 
 
 def run_simulate(args: argparse.Namespace) -> int:
+    if args.plot is not None:
+        check_output_file("--plot", args.plot)
+    if args.vtk is not None:
+        check_output_folder("--vtk", args.vtk)
+    check_count("--control-points", args.control_points, limits.CONTROL_POINTS)
     fabric = fabric_from_args(args)
     strain = args.max_strain
     case = load_case(args.case, strain, args.steps, args.angle)
@@ -130,7 +137,8 @@ def _report(result: RveResult) -> None:
     adjusted = f" (adjusted from r0 = {yarn.minimal_radius:.4g})" if yarn.adjusted else ""
     print(
         f"{result.case.name}: yarn radius {yarn.radius:.4g} mm{adjusted}, contact exponent "
-        f"{yarn.law.exponent:.3g}, {result.curve.n_control_points} control points"
+        f"{yarn.law.exponent:.3g}, {result.settings.cell.control_points} control points per "
+        f"quarter loop ({result.curve.n_control_points} on the periodic curve)"
     )
     print(f"  {'strain %':>9}{'force gf/cm':>13}{'force N':>11}{'lateral %':>11}{'iter':>6}")
     for step in result.steps:

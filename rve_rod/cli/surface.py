@@ -7,14 +7,15 @@ surface and writes it.
 import argparse
 import json
 import sys
-from pathlib import Path
 
+from rve_rod import limits
 from rve_rod.cache import ResultCache, default_runs_dir
 from rve_rod.cli.common import add_fabric_arguments, fabric_from_args, print_json
-from rve_rod.errors import InputError
 from rve_rod.homogenize.fit import FitOptions, FitReport
 from rve_rod.homogenize.generate import GenerationError, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
+from rve_rod.limits import check_count
+from rve_rod.outputs import check_output_file, check_output_folder
 from rve_rod.rve.engine import surface_engine
 from rve_rod.surface import (
     STRESS_GROUPS,
@@ -26,6 +27,7 @@ from rve_rod.surface import (
 
 __all__ = [
     "describe",
+    "print_checks",
     "print_report",
     "register",
     "run_info",
@@ -45,12 +47,15 @@ def register(subparsers) -> None:
     parser.add_argument("-o", "--output", required=True, help="surface file to write (.h5)")
     defaults = SamplingPlan()
     parser.add_argument(
-        "--rays", type=int, default=defaults.rays, help="biaxial rays over the full circle"
+        "--rays",
+        type=int,
+        default=defaults.rays,
+        help=f"biaxial rays over the full circle, {limits.RAYS[0]} to {limits.RAYS[1]}",
     )
     parser.add_argument(
         "--steps", type=int, default=defaults.steps_per_ray, help="output steps per ray"
     )
-    parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    parser.add_argument("--jobs", type=int, default=1, help="worker processes")
     parser.add_argument(
         "--energy", action="store_true", help="write the energy fit (symmetric tangent)"
     )
@@ -73,13 +78,15 @@ def register(subparsers) -> None:
 
 
 def run_surface(args: argparse.Namespace) -> int:
+    output = check_output_file("--output", args.output)
+    if args.plot is not None:
+        check_output_file("--plot", args.plot)
+    cache_dir = check_output_folder("--cache-dir", args.cache_dir) if args.cache_dir else None
+    check_count("--rays", args.rays, limits.RAYS)
     fabric = fabric_from_args(args)
     plan = SamplingPlan(rays=args.rays, steps_per_ray=args.steps)
-    output = Path(args.output)
-    if not output.parent.is_dir():
-        raise InputError(f"--output {output}: folder {output.parent} does not exist")
     engine = surface_engine()
-    cache = ResultCache(Path(args.cache_dir) if args.cache_dir else default_runs_dir())
+    cache = ResultCache(cache_dir or default_runs_dir())
     try:
         generated = generate_surface(
             fabric,
@@ -104,11 +111,23 @@ def run_surface(args: argparse.Namespace) -> int:
         written = " (written)" if report.kind == generated.surface.kind else ""
         print_report(report, f"{report.kind} fit{written}")
     print(f"wrote {output} (kind {generated.surface.kind})")
+    print_checks(generated.surface)
     if args.plot:
         from rve_rod.homogenize.plot import plot_surface  # noqa: PLC0415 (matplotlib on demand)
 
         print(f"wrote {plot_surface(generated.surface, args.plot)}")
     return 0
+
+
+def print_checks(surface: ResponseSurface) -> None:
+    """The surface's acceptance checks (`rve_rod.homogenize.acceptance`), one line each."""
+    checks = surface.parameters.get("checks")
+    if checks is None:
+        print("checks: not recorded (a file from before the checks)")
+        return
+    print("checks: sign, monotonicity, coverage passed" if not checks else "checks FAILED:")
+    for problem in checks:
+        print(f"  {problem}")
 
 
 def print_report(report: FitReport, title: str) -> None:
@@ -163,6 +182,7 @@ def run_info(args: argparse.Namespace) -> int:
         print(f", {entry['samples']} samples" if "samples" in entry else "")
     report = FitReport(surface.kind, surface.residual_stats(), info["tangent_asymmetry"])
     print_report(report, "fit residuals (relative to the largest |sample| of each group)")
+    print_checks(surface)
     print("parameters:")
     print(json.dumps(info["parameters"], indent=2, sort_keys=True))
     return 0

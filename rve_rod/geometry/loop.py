@@ -294,6 +294,10 @@ def loop_geometry(knit: Knit, minimal_radius: float) -> LoopGeometry:
     return single_jersey_loop(knit.wale_width, knit.course_height, minimal_radius)
 
 
+RADIUS_ADJUSTMENT_WARNING = 1.25
+"""A yarn radius r0 above this times w/8 is cut to w/8 with a warning (below: an info line)."""
+
+
 @lru_cache(maxsize=64)
 def single_jersey_loop(
     wale_width: float,
@@ -313,8 +317,13 @@ def single_jersey_loop(
     c = check_positive("course_height", course_height, "mm")
     r0 = check_positive("yarn_radius", minimal_radius, "mm")
     r = adjusted_radius(r0, w)
-    if r < r0:
-        logger.info("yarn radius adjusted from r0 = %.4g mm to w/8 = %.4g mm", r0, r)
+    if r < r0:  # the paper's adjustment (a few %) is routine; a large one is a surprise
+        logger.log(
+            logging.WARNING if r0 > RADIUS_ADJUSTMENT_WARNING * r else logging.INFO,
+            "yarn_radius=%.4g mm is larger than wale_width/8: the model uses r = w/8 = %.4g mm",
+            r0,
+            r,
+        )
     smallest, largest = shoulder_radius_bounds(w, c, r)
     if largest < smallest:
         raise _no_loop(
@@ -402,8 +411,13 @@ class _ShapeSearch:
                 self.w,
                 self.c,
                 r,
-                f"no depth up to {MAX_DEPTH_FACTOR:g} r for any shoulder radius; the model "
-                f"needs course_height >= about 4 r = {4 * r:.4g} mm",
+                f"no depth up to {MAX_DEPTH_FACTOR:g} r for any shoulder radius; "
+                + (
+                    f"the model needs course_height >= about 4 r = {4 * r:.4g} mm"
+                    if self.c < 4 * r
+                    else f"course_height = {self.c / r:.3g} r and wale_width = {self.w / r:.3g} "
+                    "r are too large for this yarn (loops fit up to about 70 r and 150 r)"
+                ),
             )
         best = int(np.argmin(lengths))
         bracket = (grid[max(best - 1, 0)], grid[min(best + 1, grid.size - 1)])

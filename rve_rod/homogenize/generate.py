@@ -17,6 +17,7 @@ from typing import NamedTuple, TextIO
 
 from rve_rod.cache import ResultCache
 from rve_rod.errors import ConvergenceError, InputError, check_integer
+from rve_rod.homogenize.acceptance import surface_problems
 from rve_rod.homogenize.fit import (
     FitOptions,
     FitReport,
@@ -257,8 +258,13 @@ def generate_surface(
         **engine_identity(run),
         "incomplete_runs": incomplete,
     }
+    checks = surface_problems(surfaces[kind])
+    for problem in checks:
+        logger.warning("the new %s surface fails a check: %s", kind, problem)
+    parameters["checks"] = checks
+    surface = dataclasses.replace(surfaces[kind], parameters=parameters)
     return GeneratedSurface(
-        surface=dataclasses.replace(surfaces[kind], parameters=parameters),
+        surface=surface,
         reports={name: fit_report(surface) for name, surface in surfaces.items()},
         samples=samples,
         runs=outcome,

@@ -14,7 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rve_rod import limits
 from rve_rod.errors import InputError, check_integer, check_range
+from rve_rod.limits import check_count
 
 __all__ = [
     "LoadPath",
@@ -100,7 +102,7 @@ class SamplingPlan:
     shear_steps: int = 15
 
     def __post_init__(self):
-        check_integer("rays", self.rays, 3)
+        check_integer("rays", self.rays, 3, limits.RAYS[1])
         first, last = (float(a) for a in self.angle_range_deg)
         if not 0.0 < last - first <= 360.0:
             raise InputError(
@@ -109,9 +111,9 @@ class SamplingPlan:
         object.__setattr__(self, "angle_range_deg", (first, last))
         check_range("max_tension", self.max_tension, 0.0, 0.9, closed=False)
         check_range("max_compression", self.max_compression, 0.0, 0.5)
-        check_integer("steps_per_ray", self.steps_per_ray, 1)
+        check_count("steps_per_ray", self.steps_per_ray, limits.STEPS_PER_RAY)
         check_range("max_shear", self.max_shear, 0.0, 0.9, closed=False)
-        check_integer("shear_steps", self.shear_steps, 1)
+        check_count("shear_steps", self.shear_steps, limits.STEPS_PER_RAY)
 
     def angles_deg(self) -> np.ndarray:
         """The ray angles in degrees, shape (rays,)."""

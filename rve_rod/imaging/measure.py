@@ -51,6 +51,11 @@ MIN_SIDE_PX = 32
 """Smallest photo side (pixels) worth a spectrum."""
 
 
+PLAUSIBLE_LOOP_MM = (0.2, 20.0)
+"""Range of wale widths and course heights of real knits (mm): fine-gauge hosiery to coarse
+hand knits. A measurement outside it comes from a wrong `pixels_per_mm`."""
+
+
 @dataclass(frozen=True)
 class MeasureOptions:
     """Settings of the photo measurement; the defaults suit photos of 200-2000 pixels.
@@ -153,7 +158,8 @@ def measure_photo(
         options: measurement settings (defaults: MeasureOptions()).
 
     Raises InputError for an unreadable file, a photo smaller than 32 pixels or spanning
-    fewer than `min_loops` wales or courses, and a photo without periodic structure.
+    fewer than `min_loops` wales or courses, a photo without periodic structure, and a
+    wale width or course height outside PLAUSIBLE_LOOP_MM (a wrong scale).
     """
     options = options or MeasureOptions()
     pixels_per_mm = check_positive("pixels_per_mm", pixels_per_mm)
@@ -206,6 +212,13 @@ def measure_photo(
         tiles_used = 1
     wale_vector = cell.wale_vector / scale
     course_vector = cell.course_vector / scale
+    low, high = PLAUSIBLE_LOOP_MM
+    for name, value in (("wale_width", values[0]), ("course_height", values[1])):
+        if not low <= value <= high:
+            raise InputError(
+                f"pixels_per_mm={pixels_per_mm:g} gives {name} = {value:.4g} mm, outside the "
+                f"plausible range [{low:g}, {high:g}] mm of a knit's loop: check the scale"
+            )
     return PhotoEstimate(
         wale_width=float(values[0]),
         course_height=float(values[1]),

@@ -33,6 +33,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from rve_rod import limits
 from rve_rod.contact import ContactModel, ContactOptions, Patch, PeriodicLattice
 from rve_rod.errors import InputError, check_integer, check_range
 from rve_rod.geometry.bspline import BSplineCurve, join
@@ -83,7 +84,7 @@ class CellSettings:
     contact: ContactOptions = field(default_factory=ContactOptions)
 
     def __post_init__(self):
-        check_integer("control_points", self.control_points, 5, 100_000)
+        check_integer("control_points", self.control_points, 5, limits.CONTROL_POINTS[1])
         check_range("cut", self.cut, 0.0, QUARTERS - 1e-9)
         check_range("lateral_stiffness", self.lateral_stiffness, 0.0, 1.0)
         check_range("penetration_limit", self.penetration_limit, 0.0, 2.0, closed=False)

@@ -26,7 +26,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from rve_rod.errors import InputError, check_integer, check_range
+from rve_rod import limits
+from rve_rod.errors import InputError, check_range
+from rve_rod.limits import check_count
 
 __all__ = [
     "CASES",
@@ -67,7 +69,7 @@ class LoadCase:
     """Components (a, b) of F that are macro unknowns with P_ab = 0."""
 
     def __post_init__(self):
-        check_integer("steps", self.steps, 2, 100_000)
+        check_count("steps", self.steps, limits.RVE_STEPS)
 
     def final_deformation(self) -> np.ndarray:
         """F_end (2, 2): the prescribed components at t = 1 (free ones hold their identity

@@ -158,7 +158,10 @@ class RveResult:
     @property
     def poisson_ratio(self) -> float | None:
         """nu12 = -eps22/eps11 (uniaxial-course) or nu21 = -eps11/eps22 (uniaxial-wale) at
-        the last converged state; None for other cases or before any strain."""
+        the last converged state; None for other cases, before any strain or when no state
+        converged."""
+        if not self.steps:
+            return None
         last = self.steps[-1]
         if last.lateral_strain is None or last.strain == 0.0:
             return None

@@ -153,6 +153,9 @@ def _read_file(h5: h5py.File, path: Path) -> ResponseSurface:
     version = _attribute(h5, "version", path)
     if not isinstance(version, int | np.integer) or int(version) != VERSION:
         fail(f"file version {version!r} is not supported (this reader reads version {VERSION})")
+    units = _attribute(h5, "units", path)
+    if units != UNITS:
+        fail(f"units={units!r}: this reader reads {UNITS!r} only (convert the stresses)")
     kind = _attribute(h5, "kind", path)
     if kind not in EXTENSION_ORDERS:
         fail(f"kind={kind!r} is unknown (expected one of {sorted(EXTENSION_ORDERS)})")

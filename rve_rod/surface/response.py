@@ -209,6 +209,23 @@ class ResponseSurface:
         """[[E11 min, max], [E22 min, max], [E12 min, max]], shape (3, 2)."""
         return np.vstack([self.s11.domain, self.s12.domain[None, :]])
 
+    def __repr__(self) -> str:
+        """A few lines: kind, domain, samples, largest relative residuals, checks (the arrays
+        are in the attributes; `rve-rod surface-info` prints everything)."""
+        domain = ", ".join(
+            f"{label} [{low:.3g}, {high:.3g}]"
+            for label, (low, high) in zip(("E11", "E22", "E12"), self.domain, strict=True)
+        )
+        stats = self.residual_stats()
+        samples = sum(self.samples[name].values.size for name in self.samples)
+        residuals = ", ".join(f"{name} {stats[name].max_rel:.2g}" for name in STRESS_GROUPS)
+        checks = self.parameters.get("checks")
+        verdict = "not recorded" if checks is None else "; ".join(checks) or "passed"
+        return (
+            f"ResponseSurface(kind={self.kind!r}, domain {domain}, {samples} samples, "
+            f"max relative residual {residuals}, checks {verdict})"
+        )
+
     def residual_stats(self) -> dict[str, ResidualStats]:
         """ResidualStats per stress group (NaN for groups without samples)."""
         empty = FitSamples(np.zeros((0, 1)), np.zeros(0), np.zeros(0))

@@ -2,6 +2,8 @@
 at a coarse resolution."""
 
 import json
+import logging
+from xml.etree import ElementTree
 
 import meshio
 import numpy as np
@@ -30,9 +32,13 @@ def test_json_is_the_only_stdout_and_progress_goes_to_stderr(tmp_path, capsys):
     assert data["wall_time_s"] > 0 and data["case"] == "uniaxial-course"
     assert captured.err.count("strain") == 5  # one progress line per state
     assert plot.stat().st_size > 10_000
-    files = sorted(vtk.iterdir())
+    files = sorted(vtk.glob("*.vtu"))
     assert [f.name for f in files] == [f"state_{k:03d}.vtu" for k in range(5)]
-    assert data["files"] == [str(plot), *map(str, files)]
+    assert data["files"] == [str(plot), *map(str, files), str(vtk / "states.pvd")]
+    collection = ElementTree.parse(vtk / "states.pvd").getroot()
+    datasets = collection.findall("Collection/DataSet")
+    assert [d.get("file") for d in datasets] == [f.name for f in files]
+    assert [float(d.get("timestep")) for d in datasets] == pytest.approx(data["strain"])
     mesh = meshio.read(files[-1])
     assert mesh.point_data["radius"][0] == pytest.approx(0.16)
     # 9 yarn pieces (cell and neighbours); the cell's one spans F a1 = (1.2 w, 0, 0)
@@ -70,10 +76,12 @@ def test_a_run_that_stops_writes_what_converged_and_exits_3(tmp_path, monkeypatc
     assert plot.exists()
 
 
-def test_a_run_beyond_the_penetration_limit_stops_at_it(capsys):
+def test_a_run_beyond_the_penetration_limit_stops_at_it(capsys, caplog):
+    caplog.set_level(logging.INFO)
+    caplog.set_level(logging.INFO, logger="rve_rod.newton")  # `knitmech run` quiets it
     limit = 0.1
     extra = ["--case", "uniaxial-wale", "--steps", "11", "--penetration-limit", str(limit)]
-    code = main([*ARGS, *extra, "--json"])
+    code = main(["-v", *ARGS, *extra, "--json"])  # -v: the INFO records are made
     assert code == 3
     captured = capsys.readouterr()
     data = json.loads(captured.out)
@@ -81,6 +89,9 @@ def test_a_run_beyond_the_penetration_limit_stops_at_it(capsys):
     penetration = np.array(data["max_penetration"]) / data["adjusted_radius"]
     assert 0.0 < penetration.max() <= limit
     assert "exceeds the limit of 0.1 r" in captured.err
+    # the expected stop is one message; the step cutbacks on the way are details (-v)
+    cutbacks = [r for r in caplog.records if "increment cut" in r.getMessage()]
+    assert cutbacks and all(r.levelno == logging.INFO for r in cutbacks)
 
 
 @pytest.mark.parametrize(
@@ -88,7 +99,7 @@ def test_a_run_beyond_the_penetration_limit_stops_at_it(capsys):
     [
         (["--max-strain", "1.5"], "max_strain=1.5 is outside the valid range"),
         (["--steps", "1"], "steps=1 is outside the valid range"),
-        (["--control-points", "8"], "control_points=8 is below the geometry's own 12"),
+        (["--control-points", "8"], "--control-points=8 is outside the valid range [20, 400]"),
         (["--penetration-limit", "2"], "penetration_limit=2 is outside the valid range (0, 2)"),
     ],
 )

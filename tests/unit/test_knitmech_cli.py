@@ -9,7 +9,10 @@ def run(tmp_path, text, capsys, *extra):
     scene.write_text(text)
     folders = ["-o", str(tmp_path / "out"), "--cache-dir", str(tmp_path / "cache")]
     status = main(["run", str(scene), *folders, *extra])
-    return status, capsys.readouterr().err.splitlines()
+    log = ("INFO ", "DEBUG ")  # the run's progress log; the error lines are the rest
+    return status, [
+        line for line in capsys.readouterr().err.splitlines() if not line.startswith(log)
+    ]
 
 
 def nothing_written(tmp_path):

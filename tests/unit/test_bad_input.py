@@ -1,0 +1,208 @@
+"""The bad-input table (issue 19, docs/reliability.md): every input a user got a traceback, a
+hang or a silent wrong answer from, with its exit status and the words of its one-line message.
+
+Each row runs a tool's `main` in-process with the work functions replaced by a tripwire, so a
+row also shows that the input is refused before any work starts (no RVE run, no geometry, no
+stage, no membrane solve). Placeholders: {dir} an existing folder, {file} an existing file,
+{missing} a folder that does not exist, {scene} a scene file made of the base scene and the
+row's TOML lines. The broken-pipe rows run the installed scripts with a reader that closes
+stdout at once.
+"""
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+from PIL import Image
+
+import fabric_dolfinx.cli
+import knitmech.cli
+import knitmech.pipeline
+import rve_rod.cli
+import rve_rod.cli.geometry
+import rve_rod.cli.measure
+import rve_rod.cli.simulate
+import rve_rod.cli.surface
+from knitmech.scene import default_surface_path
+from rve_rod.imaging.synthetic import SyntheticPhoto, render_photo
+from rve_rod.limits import available_cores
+
+TOOLS = {
+    "rve-rod": rve_rod.cli.main,
+    "fabric-dolfinx": fabric_dolfinx.cli.main,
+    "knitmech": knitmech.cli.main,
+}
+FABRIC = "--preset cotton-20s2 --stitch 5.5"
+SVK = "tension --svk 1,2,0.3,1"
+SCENE = """name = "bad"
+fidelity = "fast"
+[fabric]
+preset = "cotton-20s2"
+stitch = 5.5
+"""
+CORES = available_cores()
+
+# tool, arguments, scene lines (for {scene}), exit status, words of the message
+TABLE = [
+    # tracebacks before
+    ("rve-rod", f"geometry {FABRIC} --wale-width 1e6", "", 2, "wale_width=1e+06 mm is outside"),
+    ("rve-rod", f"geometry {FABRIC} --course-height 1e9", "", 2, "course_height=1e+09 mm is"),
+    ("knitmech", "run {scene}", "wale_width = 1e6", 2, "wale_width=1e+06 mm is outside"),
+    ("rve-rod", f"simulate {FABRIC} --youngs-modulus 1e12", "", 2, "youngs_modulus=1e+12 MPa"),
+    ("rve-rod", f"surface {FABRIC} -o {{dir}}", "", 2, "--output {dir}: is a folder"),
+    ("rve-rod", f"surface {FABRIC} -o {{file}}/s.h5", "", 2, "{file} is a file, not a folder"),
+    ("rve-rod", f"surface {FABRIC} -o {{missing}}/s.h5", "", 2, "folder {missing} does not"),
+    ("rve-rod", f"surface {FABRIC} -o s.h5 --cache-dir {{file}}", "", 2, "--cache-dir {file}: is"),
+    ("rve-rod", f"simulate {FABRIC} --plot {{missing}}/c.png", "", 2, "--plot {missing}/c.png"),
+    ("rve-rod", f"simulate {FABRIC} --vtk {{file}}", "", 2, "--vtk {file}: is a file"),
+    ("rve-rod", f"geometry {FABRIC} --vtk {{dir}}", "", 2, "--vtk {dir}: is a folder"),
+    ("rve-rod", "measure photo.png --pixels-per-mm 20 --plot {missing}/o.png", "", 2, "--plot"),
+    ("knitmech", "run -o {file}", "", 2, "--output {file}: is a file, not a folder"),
+    ("knitmech", "run -o {file}/results", "", 2, "{file} is a file, not a folder"),
+    ("knitmech", "run -o {missing}/results", "", 2, "folder {missing} does not exist"),
+    ("knitmech", "run --cache-dir {file}/cache", "", 2, "--cache-dir {file}/cache"),
+    ("fabric-dolfinx", f"{SVK} --xdmf {{missing}}/o.xdmf", "", 2, "--xdmf {missing}/o.xdmf"),
+    ("fabric-dolfinx", f"{SVK} --plot {{dir}}", "", 2, "--plot {dir}: is a folder"),
+    ("fabric-dolfinx", "tension --svk -1,2,0.3,1", "", 2, "course_stiffness=-1 N/mm must be > 0"),
+    # hangs and runaway resources before
+    ("rve-rod", f"simulate {FABRIC} --control-points 100000", "", 2, "[20, 400]"),
+    ("rve-rod", f"simulate {FABRIC} --steps 1000000", "", 2, "steps=1000000 is outside"),
+    ("rve-rod", f"surface {FABRIC} -o s.h5 --rays 1000000", "", 2, "--rays=1000000 is outside"),
+    ("rve-rod", f"surface {FABRIC} -o s.h5 --steps 100000", "", 2, "steps_per_ray=100000"),
+    ("fabric-dolfinx", f"{SVK} --steps 100000000", "", 2, "steps=100000000 is outside"),
+    ("fabric-dolfinx", f"{SVK} --steps 1e8", "", 2, "--steps: invalid int value: '1e8'"),
+    ("fabric-dolfinx", f"{SVK} --elements 4000", "", 2, "elements=4000 is outside the valid"),
+    ("knitmech", "run {scene}", "[surface]\nrays = 100000000", 2, "surface.rays: 100000000"),
+    ("knitmech", "run {scene}", "[macro]\nelements = 4000", 2, "macro.elements: 4000 is out"),
+    ("knitmech", "run {scene}", "[macro]\nsteps = 100000", 2, "macro.steps: 100000 is out"),
+    ("knitmech", "run {scene}", "[meso]\ncontrol_points = 100000", 2, "meso.control_points"),
+    ("knitmech", "run {scene}", "[macro]\nranks = 1000", 2, f"valid range [1, {CORES}]"),
+    # silent wrong answers before
+    ("rve-rod", f"surface {FABRIC} -o s.h5 --rays 3", "", 2, "--rays=3 is outside the valid"),
+    ("rve-rod", f"surface {FABRIC} -o s.h5 --rays 8", "", 2, "--rays=8 is outside the valid"),
+    ("rve-rod", f"simulate {FABRIC} --control-points 12", "", 2, "--control-points=12 is out"),
+    ("knitmech", "run {scene}", "[meso]\ncontrol_points = 12", 2, "meso.control_points: 12"),
+    ("rve-rod", f"geometry {FABRIC} --course-height 50", "", 2, "course_height=50 mm is out"),
+]
+
+
+def _tripwire(*args, **kwargs):
+    raise AssertionError("work began before the input was refused")
+
+
+@pytest.fixture
+def no_work(monkeypatch):
+    """Every expensive step of the tools raises AssertionError (not mapped to an exit
+    status: the row fails with a traceback)."""
+    monkeypatch.setattr(rve_rod.cli.geometry, "loop_geometry", _tripwire)
+    monkeypatch.setattr(rve_rod.cli.simulate, "simulate", _tripwire)
+    monkeypatch.setattr(rve_rod.cli.surface, "generate_surface", _tripwire)
+    monkeypatch.setattr(rve_rod.cli.measure, "read_image", _tripwire)
+    monkeypatch.setattr(fabric_dolfinx.cli, "TensionSetup", _tripwire)
+    monkeypatch.setattr(knitmech.pipeline.StageCache, "run", _tripwire)
+
+
+@pytest.mark.parametrize("row", TABLE, ids=[f"{r[0]} {r[1]} {r[2]}".strip() for r in TABLE])
+def test_bad_input_one_line_naming_the_parameter_before_any_work(
+    row, tmp_path, monkeypatch, capsys, no_work
+):
+    tool, arguments, scene, status, words = row
+    monkeypatch.chdir(tmp_path)
+    places = {
+        "dir": tmp_path / "folder",
+        "file": tmp_path / "file.txt",
+        "missing": tmp_path / "missing",
+        "scene": tmp_path / "scene.toml",
+    }
+    places["dir"].mkdir()
+    places["file"].write_text("not a folder")
+    places["scene"].write_text(SCENE.replace("stitch = 5.5", f"stitch = 5.5\n{scene}"))
+    argv = [argument.format(**places) for argument in arguments.split()]
+    if tool == "knitmech" and "--cache-dir" not in argv:
+        argv += ["--cache-dir", str(tmp_path / "cache")]
+    assert TOOLS[tool](argv) == status
+    error = capsys.readouterr().err
+    assert words.format(**places) in error
+    lines = error.strip().splitlines()
+    assert len(lines) == 1 or (tool == "knitmech" and "has 1 problem(s)" in lines[0]), error
+    assert all(line.startswith(("rve-rod", "fabric-dolfinx", "knitmech", "  ")) for line in lines)
+
+
+BIN = Path(sys.executable).parent
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        f"{BIN}/rve-rod surface-info {default_surface_path()} --json",
+        f"{BIN}/rve-rod surface-info {default_surface_path()}",
+    ],
+)
+def test_a_closed_stdout_ends_quietly_with_141(command):
+    # `true` exits without reading: the first write meets a closed pipe, as `| head` does late
+    shell = subprocess.run(
+        ["bash", "-c", f"{command} | true; echo ${{PIPESTATUS[0]}}"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert shell.stdout.strip() == "141"
+    assert shell.stderr == ""
+
+
+@pytest.fixture(scope="module")
+def photo(tmp_path_factory):
+    """A synthetic photo of single jersey, w = 1.33 mm and c = 1.26 mm at 20 px/mm."""
+    knit = SyntheticPhoto(
+        wale_width=1.33,
+        course_height=1.26,
+        minimal_radius=0.19,
+        pixels_per_mm=20.0,
+        width_px=400,
+        height_px=400,
+    )
+    path = tmp_path_factory.mktemp("photo") / "knit.png"
+    Image.fromarray((255 * render_photo(knit)).astype(np.uint8)).save(path)
+    return path
+
+
+@pytest.fixture(scope="module")
+def mpa_surface(tmp_path_factory):
+    """The shipped surface file with its units attribute saying MPa."""
+    path = tmp_path_factory.mktemp("surface") / "mpa.h5"
+    shutil.copyfile(default_surface_path(), path)
+    with h5py.File(path, "r+") as h5:
+        h5.attrs["units"] = "E: 1 (Green-Lagrange); S: MPa"
+    return path
+
+
+# rows whose check needs the work done (a measurement, a file read): arguments, status, words
+CHECKED = [
+    ("measure {photo} --pixels-per-mm 1e9", 2, "pixels_per_mm=1e+09 gives wale_width = 2.66e-08"),
+    ("measure {photo} --pixels-per-mm 0.01", 2, "pixels_per_mm=0.01 gives wale_width = 2660 mm"),
+    ("surface-info {mpa}", 2, "units='E: 1 (Green-Lagrange); S: MPa': this reader reads"),
+]
+
+
+@pytest.mark.parametrize("row", CHECKED, ids=[row[0] for row in CHECKED])
+def test_implausible_results_and_files_are_refused(row, photo, mpa_surface, capsys):
+    arguments, status, words = row
+    argv = arguments.format(photo=photo, mpa=mpa_surface).split()
+    assert rve_rod.cli.main(argv) == status
+    error = capsys.readouterr().err
+    assert words in error and error.count("\n") == 1
+
+
+def test_a_yarn_radius_cut_to_w_over_8_is_said():
+    arguments = "geometry --wale-width 1.33 --course-height 1.26 --yarn-radius 5"
+    run = subprocess.run(
+        [str(BIN / "rve-rod"), *arguments.split()], capture_output=True, text=True, check=False
+    )
+    assert run.returncode == 0
+    message = "yarn_radius=5 mm is larger than wale_width/8: the model uses r = w/8 = 0.1663 mm"
+    assert message in run.stderr
+    assert "yarn radius        0.1663 mm (adjusted to w/8)" in run.stdout
