@@ -22,6 +22,7 @@ class Progress:
         stream: where to draw (the CLI passes sys.stderr).
         total: number of runs.
         cached: runs taken from the cache (done without computing).
+        failed: runs that ended with an error (counted as done).
         label: text in front of the bar.
         width: characters of the bar.
     """
@@ -32,11 +33,12 @@ class Progress:
     label: str = "RVE runs"
     width: int = 24
     computed: int = 0
+    failed: int = 0
     started: float = field(default_factory=time.monotonic)
 
     def line(self) -> str:
         """The current progress line (without line end)."""
-        done = self.cached + self.computed
+        done = self.cached + self.computed + self.failed
         filled = round(self.width * done / self.total) if self.total else self.width
         elapsed = time.monotonic() - self.started
         remaining = self.total - done
@@ -46,21 +48,25 @@ class Progress:
             left = f"~{_clock(elapsed / self.computed * remaining)} left"
         else:
             left = "time left unknown"
+        failed = f", {self.failed} failed" if self.failed else ""
         return (
             f"{self.label} [{'#' * filled}{'.' * (self.width - filled)}] {done}/{self.total} "
-            f"({self.cached} cached), {_clock(elapsed)} elapsed, {left}"
+            f"({self.cached} cached{failed}), {_clock(elapsed)} elapsed, {left}"
         )
 
     def draw(self) -> None:
         """Draw the current state."""
         if self.stream.isatty():
-            end = "\n" if self.cached + self.computed == self.total else ""
+            end = "\n" if self.cached + self.computed + self.failed == self.total else ""
             self.stream.write("\r" + self.line() + end)
         else:
             self.stream.write(self.line() + "\n")
         self.stream.flush()
 
-    def advance(self) -> None:
-        """Count one more computed run and redraw."""
-        self.computed += 1
+    def advance(self, failed: bool = False) -> None:
+        """Count one more computed (or `failed`) run and redraw."""
+        if failed:
+            self.failed += 1
+        else:
+            self.computed += 1
         self.draw()
