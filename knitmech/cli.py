@@ -1,7 +1,8 @@
 """The `knitmech` command: run a scene from the yarn to the fabric patch.
 
     knitmech run [SCENE.toml] [--fidelity fast|balanced|accurate] [-o results] [--jobs N]
-                 [--cache-dir DIR] [--json] [-q | -v]
+                 [--executor local|mpi] [--cache-dir DIR] [--json] [-q | -v]
+    knitmech sweep SWEEP.toml [-o sweep] [--jobs N] [--executor local|mpi] [--cache-dir DIR]
 
 Without a scene file it runs the built-in default scene (cotton 20s/2, stitch 5.5, the
 paper's 50 mm patch course- and wale-wise). Progress goes to stderr; the summary table (or,
@@ -16,12 +17,14 @@ import logging
 import os
 import sys
 
+from knitmech import sweep
 from knitmech.fidelity import LEVELS
 from knitmech.pipeline import default_cache_dir, run_scene
 from knitmech.scene import load_scene
 from knitmech.stages import StageError
 from rve_rod import __version__
 from rve_rod.errors import ConvergenceError, InputError
+from rve_rod.homogenize.executors import add_executor_argument
 from rve_rod.homogenize.generate import GenerationError
 
 PROGRAM = "knitmech"
@@ -59,12 +62,14 @@ def build_parser() -> argparse.ArgumentParser:
         default=available_cores(),
         help=f"worker processes for the RVE runs (default: all cores, {available_cores()})",
     )
+    add_executor_argument(run)
     run.add_argument("--cache-dir", help=f"stage and RVE-run cache (default {default_cache_dir()})")
     run.add_argument("--json", action="store_true", help="print summary.json instead of a table")
     verbosity = run.add_mutually_exclusive_group()
     verbosity.add_argument("-q", "--quiet", action="store_true", help="warnings only")
     verbosity.add_argument("-v", "--verbose", action="store_true", help="solver details too")
     run.set_defaults(run=run_command)
+    sweep.register(subparsers)
     return parser
 
 
@@ -96,6 +101,7 @@ def run_command(args: argparse.Namespace) -> int:
         output=args.output,
         cache_dir=args.cache_dir,
         jobs=args.jobs,
+        executor=args.executor,
         progress=None if args.quiet else sys.stderr,
     )
     if args.json:

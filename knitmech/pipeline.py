@@ -49,7 +49,8 @@ from rve_rod import __version__
 from rve_rod.cache import ResultCache
 from rve_rod.cli.common import to_jsonable
 from rve_rod.cli.surface import default_cache_dir as default_runs_dir
-from rve_rod.errors import InputError, check_integer
+from rve_rod.errors import InputError
+from rve_rod.homogenize.executors import ExecutorChoice
 from rve_rod.surface import read_surface
 
 logger = logging.getLogger(__name__)
@@ -81,10 +82,13 @@ def default_cache_dir() -> Path:
     return default_runs_dir().parent
 
 
-def check_plan(plan: RunPlan) -> None:
-    """Problems a scene file alone does not show: an unreadable surface file, no mpirun.
+def check_plan(plan: RunPlan, executor: ExecutorChoice | None = None) -> None:
+    """Problems a scene file alone does not show: an unreadable surface file, no mpirun, an
+    mpi executor that was not launched as one (InputError) or that would nest mpirun.
 
     Raises SceneError listing every problem (one per key)."""
+    if executor is not None and plan.scene.surface.path is None:
+        executor.workers()
     problems = []
     if plan.scene.surface.path is not None:
         try:
@@ -93,6 +97,11 @@ def check_plan(plan: RunPlan) -> None:
             problems.append(f"surface.path: {error}")
     if plan.scene.macro.ranks > 1 and shutil.which("mpirun") is None:
         problems.append(f"macro.ranks: {plan.scene.macro.ranks} needs mpirun, not on PATH")
+    if plan.scene.macro.ranks > 1 and executor is not None and executor.kind == "mpi":
+        problems.append(
+            f"macro.ranks: {plan.scene.macro.ranks} would start mpirun inside the MPI job of "
+            "--executor mpi; set macro.ranks = 1 (the patch then runs on rank 0)"
+        )
     if problems:
         raise SceneError(repr(plan.scene.name), problems)
 
@@ -104,6 +113,7 @@ def run_scene(
     output: Path | str = "results",
     cache_dir: Path | str | None = None,
     jobs: int = 1,
+    executor: str = "local",
     progress: TextIO | None = None,
 ) -> PipelineResult:
     """Run every stage of `scene` and write the results folder.
@@ -113,16 +123,18 @@ def run_scene(
         fidelity: a level name overriding the scene's.
         output: the results folder (created; files of an earlier run there are replaced).
         cache_dir: root of the stage and RVE-run caches (default: `default_cache_dir()`).
-        jobs: worker processes for the surface's RVE runs.
+        jobs: local worker processes for the surface's RVE runs.
+        executor: where the surface's RVE runs are computed, "local" or "mpi"
+            (`rve_rod.homogenize.executors`; the results do not depend on it).
         progress: stream for the progress bar of the RVE runs (None: none).
 
     Raises:
         SceneError: the scene cannot run (before anything is computed).
     """
     started = time.perf_counter()
-    check_integer("jobs", jobs, 1, 256)
+    choice = ExecutorChoice(executor, jobs)
     plan = plan_run(scene, fidelity_level(fidelity or scene.fidelity))
-    check_plan(plan)
+    check_plan(plan, choice)
     cache_dir = Path(cache_dir) if cache_dir is not None else default_cache_dir()
     folder = Path(output)
     _clear_previous(folder)
@@ -144,7 +156,7 @@ def run_scene(
         raise SceneError(repr(plan.scene.name), [f"{keys}: {error}"]) from None
     meso = {stage.item: run(stage) for stage in meso_stages(plan)}
     if plan.scene.surface.path is None:
-        runs = SurfaceRuns(ResultCache(cache_dir / "rve-runs"), jobs, progress)
+        runs = SurfaceRuns(ResultCache(cache_dir / "rve-runs"), choice, progress)
         surface = run(surface_stage(plan, runs))
     else:
         begun = time.perf_counter()

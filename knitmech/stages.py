@@ -28,6 +28,7 @@ from rve_rod.cache import ResultCache
 from rve_rod.cli.common import to_jsonable
 from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.loop import loop_geometry
+from rve_rod.homogenize.executors import ExecutorChoice
 from rve_rod.homogenize.fit import FitOptions
 from rve_rod.homogenize.generate import engine_identity, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
@@ -192,12 +193,12 @@ class SurfaceRuns(NamedTuple):
 
     Attributes:
         cache: where every single run is cached (an interrupted stage resumes from it).
-        jobs: worker processes.
+        executor: where the runs are computed (local processes or MPI ranks).
         progress: stream for the progress bar (None: none).
     """
 
     cache: ResultCache
-    jobs: int
+    executor: ExecutorChoice
     progress: TextIO | None
 
 
@@ -223,7 +224,8 @@ def surface_stage(plan: RunPlan, runs: SurfaceRuns) -> Stage:
             plan.fit,
             kind=plan.scene.surface.kind,
             cache=runs.cache,
-            jobs=runs.jobs,
+            executor=runs.executor.kind,
+            jobs=runs.executor.jobs,
             progress=runs.progress,
         )
         write_surface(folder / SURFACE_FILE, generated.surface)
@@ -372,9 +374,13 @@ def macro_stages(plan: RunPlan, surface_path: Path) -> list[Stage]:
 def _macro_compute(spec, surface_path: Path, ranks: int):
     def compute(folder: Path) -> dict:
         if ranks == 1:
-            from knitmech.macro import run_patch  # noqa: PLC0415 (dolfinx on demand)
+            from mpi4py import MPI  # noqa: PLC0415 (dolfinx on demand)
 
-            return run_patch(spec, surface_path, folder)
+            from knitmech.macro import run_patch  # noqa: PLC0415
+
+            # this process alone: under `python -m mpi4py.futures` (--executor mpi) the other
+            # ranks of COMM_WORLD serve RVE runs and take part in no collective call
+            return run_patch(spec, surface_path, folder, MPI.COMM_SELF)
         return _run_patch_mpi(spec, surface_path, folder, ranks)
 
     return compute

@@ -38,6 +38,17 @@ class InProcessExecutor(concurrent.futures.Executor):
         return future
 
 
+def add_executor_argument(parser) -> None:
+    """Add `--executor local|mpi` to an argparse parser (the CLIs that run RVE runs)."""
+    parser.add_argument(
+        "--executor",
+        choices=EXECUTORS,
+        default="local",
+        help="where RVE runs are computed: local worker processes (default, --jobs) or the "
+        f"worker ranks of an MPI job launched as `{MPI_LAUNCH}` (docs/cluster.md)",
+    )
+
+
 def isolated_process() -> concurrent.futures.Executor:
     """A pool of one fresh worker process (to tell which run kills its worker)."""
     return concurrent.futures.ProcessPoolExecutor(max_workers=1)
