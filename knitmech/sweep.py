@@ -317,7 +317,11 @@ def _summary(sweep: Sweep, knits, batch: RunsResult, executor: str, wall: float)
             "knits": [
                 {
                     "knit": knit.label,
-                    "fabric": dataclasses.asdict(spec.scene.fabric),
+                    "fabric": {
+                        key: value
+                        for key, value in dataclasses.asdict(spec.scene.fabric).items()
+                        if value is not None
+                    },
                     "runs": knit.runs,
                     "computed": knit.computed,
                     "cached": knit.cached,

@@ -5,4 +5,6 @@ import sys
 
 from rve_rod.cli import main
 
-sys.exit(main())
+# the guard: mpi4py.futures workers import the driver's main module as "__mp_main__"
+if __name__ == "__main__":
+    sys.exit(main())

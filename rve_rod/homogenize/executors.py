@@ -114,6 +114,6 @@ class ExecutorChoice:
 
     def describe(self) -> str:
         """e.g. "local, 2 jobs" or "mpi, 3 worker ranks"."""
-        if self.kind == "mpi":
-            return f"mpi, {self.workers()} worker ranks"
-        return f"local, {self.jobs} job{'s' if self.jobs > 1 else ''}"
+        workers = self.workers()
+        unit = "worker rank" if self.kind == "mpi" else "job"
+        return f"{self.kind}, {workers} {unit}{'s' if workers > 1 else ''}"
