@@ -374,12 +374,15 @@ def macro_stages(plan: RunPlan, surface_path: Path) -> list[Stage]:
 def _macro_compute(spec, surface_path: Path, ranks: int):
     def compute(folder: Path) -> dict:
         if ranks == 1:
-            from mpi4py import MPI  # noqa: PLC0415 (dolfinx on demand)
-
-            from knitmech.macro import run_patch  # noqa: PLC0415
+            import petsc4py  # noqa: PLC0415 (dolfinx on demand)
+            from mpi4py import MPI  # noqa: PLC0415
 
             # this process alone: under `python -m mpi4py.futures` (--executor mpi) the other
-            # ranks of COMM_WORLD serve RVE runs and take part in no collective call
+            # ranks of COMM_WORLD serve RVE runs and take part in no collective call, not even
+            # PETSc's initialization (a no-op when PETSc is initialized already)
+            petsc4py.init(comm=MPI.COMM_SELF)
+            from knitmech.macro import run_patch  # noqa: PLC0415
+
             return run_patch(spec, surface_path, folder, MPI.COMM_SELF)
         return _run_patch_mpi(spec, surface_path, folder, ranks)
 

@@ -33,6 +33,20 @@ rays = 4
 preset = "cotton-20s2"
 stitch = [5.5]
 """
+SCENE = """
+fidelity = "fast"
+[fabric]
+preset = "cotton-20s2"
+stitch = 5.5
+[meso]
+cases = []
+[surface]
+rays = 4
+[macro]
+elements = 3
+steps = 3
+directions = ["course"]
+"""
 
 
 def run(command, **kwargs):
@@ -58,6 +72,26 @@ def test_mpi_sweep_writes_the_surface_of_the_local_sweep(tmp_path):
     assert set(local) == set(mpi)
     for name, spline in local.items():
         np.testing.assert_allclose(mpi[name].coefficients, spline.coefficients, rtol=1e-12)
+
+
+@pytest.mark.mpi
+def test_knitmech_run_under_mpi_makes_the_surface_of_the_sweep(tmp_path):
+    # the patch runs on rank 0 alone while the other ranks serve RVE runs (no collective
+    # call on COMM_WORLD, PETSc's initialization included: it used to hang here)
+    (tmp_path / "scene.toml").write_text(SCENE)
+    (tmp_path / "tiny.toml").write_text(SWEEP)
+    command = [*MPI_FUTURES, "-m", "knitmech", "run", "scene.toml", "--executor", "mpi", "-q"]
+    process = run([*command, "-o", "results", "--cache-dir", "cache-run"], cwd=tmp_path)
+    assert process.returncode == 0, process.stderr
+    summary = json.loads((tmp_path / "results" / "summary.json").read_text())
+    assert summary["surface"]["runs_computed"] == 5 and summary["macro"]["course"]["complete"]
+    command = [sys.executable, "-m", "knitmech", "sweep", "tiny.toml", "-o", "sweep", "-q"]
+    process = run([*command, "--jobs", "2", "--cache-dir", "cache-sweep"], cwd=tmp_path)
+    assert process.returncode == 0, process.stderr
+    scene = read_surface(tmp_path / "results" / "surface.h5").groups()
+    sweep = read_surface(tmp_path / "sweep" / "cotton-20s2_stitch-5.5.h5").groups()
+    for name, spline in sweep.items():
+        np.testing.assert_allclose(scene[name].coefficients, spline.coefficients, rtol=1e-12)
 
 
 @pytest.mark.mpi
