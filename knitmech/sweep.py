@@ -388,12 +388,16 @@ def register(subparsers) -> None:
     add_executor_argument(parser)
     parser.add_argument("--cache-dir", help=f"RVE-run cache root (default {default_cache_dir()})")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress display")
+    parser.add_argument("-v", "--verbose", action="store_true", help="solver details too")
     parser.set_defaults(run=run_command)
 
 
 def run_command(args: argparse.Namespace) -> int:
     """The `sweep` subcommand; returns the exit status (3 when runs failed)."""
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
+    if not args.verbose:
+        # the RVE's step cutbacks are solver details, as in `knitmech run` (-v shows them)
+        logging.getLogger("rve_rod.newton").setLevel(logging.ERROR)
     result = run_sweep(
         load_sweep(args.sweep),
         args.output,
