@@ -1,7 +1,8 @@
 """The `knitmech` command: run a scene from the yarn to the fabric patch.
 
     knitmech run [SCENE.toml] [--fidelity fast|balanced|accurate] [-o results] [--jobs N]
-                 [--cache-dir DIR] [--json] [-q | -v]
+                 [--executor local|mpi] [--cache-dir DIR] [--json] [-q | -v]
+    knitmech sweep SWEEP.toml [-o sweep] [--jobs N] [--executor local|mpi] [--cache-dir DIR]
 
 Without a scene file it runs the built-in default scene (cotton 20s/2, stitch 5.5, the
 paper's 50 mm patch course- and wale-wise). Progress goes to stderr; the summary table (or,
@@ -21,10 +22,12 @@ from knitmech.fidelity import LEVELS
 from knitmech.pipeline import run_scene
 from knitmech.scene import load_scene
 from knitmech.stages import StageError
+from knitmech.sweep import FAILED_EXIT_STATUS, SUMMARY_FILE, load_sweep, run_sweep
 from rve_rod import __version__
 from rve_rod.cache import default_cache_root
 from rve_rod.errors import CommandLineParser, cli_exit_status, terminate_as_interrupt
 from rve_rod.help_format import HelpFormatter
+from rve_rod.homogenize.executors import add_executor_argument
 from rve_rod.homogenize.generate import GenerationError
 from rve_rod.limits import available_cores
 from rve_rod.log_setup import install_handler
@@ -35,6 +38,7 @@ __all__ = [
     "build_parser",
     "main",
     "run_command",
+    "sweep_command",
 ]
 
 PROGRAM = "knitmech"
@@ -69,6 +73,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=available_cores(),
         help=f"worker processes for the RVE runs (default: all cores, {available_cores()})",
     )
+    add_executor_argument(run)
     run.add_argument(
         "--cache-dir", help=f"stage and RVE-run cache (default {default_cache_root()})"
     )
@@ -82,7 +87,32 @@ def build_parser() -> argparse.ArgumentParser:
     verbosity.add_argument("-q", "--quiet", action="store_true", help="warnings only")
     verbosity.add_argument("-v", "--verbose", action="store_true", help="solver details too")
     run.set_defaults(run=run_command)
+    _add_sweep(subparsers)
     return parser
+
+
+def _add_sweep(subparsers) -> None:
+    sweep = subparsers.add_parser(
+        "sweep",
+        help="build the response surfaces of many knits from one sweep file",
+        description="Run the RVE runs of every knit of a sweep file together (cached, "
+        "resumable), fit and write one surface file per knit, print a summary table "
+        "(docs/cluster.md).",
+    )
+    sweep.add_argument("sweep", help="sweep file (TOML)")
+    sweep.add_argument("-o", "--output", default="sweep", help="output folder")
+    sweep.add_argument(
+        "--jobs",
+        type=int,
+        default=available_cores(),
+        help=f"local worker processes (default: all cores, {available_cores()})",
+    )
+    add_executor_argument(sweep)
+    sweep.add_argument("--cache-dir", help=f"RVE-run cache root (default {default_cache_root()})")
+    verbosity = sweep.add_mutually_exclusive_group()
+    verbosity.add_argument("-q", "--quiet", action="store_true", help="warnings only")
+    verbosity.add_argument("-v", "--verbose", action="store_true", help="solver details too")
+    sweep.set_defaults(run=sweep_command)
 
 
 def _our_progress_or_warnings(record: logging.LogRecord) -> bool:
@@ -116,6 +146,7 @@ def run_command(args: argparse.Namespace) -> int:
         output=args.output,
         cache_dir=args.cache_dir,
         jobs=args.jobs,
+        executor=args.executor,
         progress=None if args.quiet else sys.stderr,
         oversubscribe=args.oversubscribe,
     )
@@ -127,6 +158,26 @@ def run_command(args: argparse.Namespace) -> int:
         print(result.table)
         print(f"results in {result.folder}/ (summary.json, figures/, paraview/, surface.h5)")
     return 0
+
+
+def sweep_command(args: argparse.Namespace) -> int:
+    """The `sweep` subcommand; returns the exit status (3 when runs failed)."""
+    _configure_logging(args)
+    check_output_folder("--output", args.output)
+    if args.cache_dir is not None:
+        check_output_folder("--cache-dir", args.cache_dir)
+    result = run_sweep(
+        load_sweep(args.sweep),
+        args.output,
+        cache_dir=args.cache_dir,
+        executor=args.executor,
+        jobs=args.jobs,
+        progress=None if args.quiet else sys.stderr,
+    )
+    ignore_broken_pipe()
+    print(result.table)
+    print(f"results in {result.folder}/ ({SUMMARY_FILE}, summary.txt, one .h5 per knit)")
+    return FAILED_EXIT_STATUS if result.failed else 0
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -49,6 +49,7 @@ from knitmech.stages import (
 from rve_rod import __version__
 from rve_rod.cache import ResultCache, default_cache_root
 from rve_rod.errors import InputError, check_integer
+from rve_rod.homogenize.executors import ExecutorChoice
 from rve_rod.jsonable import to_jsonable
 from rve_rod.limits import available_cores
 from rve_rod.outputs import check_output_folder
@@ -84,11 +85,16 @@ class PipelineResult(NamedTuple):
     table: str
 
 
-def check_plan(plan: RunPlan, *, oversubscribe: bool = False) -> None:
+def check_plan(
+    plan: RunPlan, executor: ExecutorChoice | None = None, *, oversubscribe: bool = False
+) -> None:
     """Problems a scene file alone does not show: an unreadable surface file, no mpirun, more
-    MPI ranks than cores (unless `oversubscribe`).
+    MPI ranks than cores (unless `oversubscribe`), an mpi executor that was not launched as
+    one (InputError) or that would nest mpirun.
 
     Raises SceneError listing every problem (one per key)."""
+    if executor is not None and plan.scene.surface.path is None:
+        executor.workers()
     problems = []
     if plan.scene.surface.path is not None:
         try:
@@ -103,6 +109,11 @@ def check_plan(plan: RunPlan, *, oversubscribe: bool = False) -> None:
             f"macro.ranks: {plan.scene.macro.ranks} is outside the valid range [1, {cores}] "
             "(the cores of this machine; --oversubscribe allows more)"
         )
+    if plan.scene.macro.ranks > 1 and executor is not None and executor.kind == "mpi":
+        problems.append(
+            f"macro.ranks: {plan.scene.macro.ranks} would start mpirun inside the MPI job of "
+            "--executor mpi; set macro.ranks = 1 (the patch then runs on rank 0)"
+        )
     if problems:
         raise SceneError(repr(plan.scene.name), problems)
 
@@ -114,6 +125,7 @@ def run_scene(
     output: Path | str = "results",
     cache_dir: Path | str | None = None,
     jobs: int = 1,
+    executor: str = "local",
     progress: TextIO | None = None,
     oversubscribe: bool = False,
 ) -> PipelineResult:
@@ -125,7 +137,9 @@ def run_scene(
         output: the results folder (created; files of an earlier run there are replaced).
         cache_dir: root of the stage cache (`stages/`) and the RVE-run cache (`rve-runs/`,
             shared with `rve-rod surface`); default `rve_rod.cache.default_cache_root()`.
-        jobs: worker processes for the surface's RVE runs.
+        jobs: local worker processes for the surface's RVE runs.
+        executor: where the surface's RVE runs are computed, "local" or "mpi"
+            (`rve_rod.homogenize.executors`; the results do not depend on it).
         progress: stream for the progress bar of the RVE runs (None: none).
         oversubscribe: allow more MPI ranks (macro.ranks) than cores.
 
@@ -135,11 +149,12 @@ def run_scene(
     """
     started = time.perf_counter()
     check_integer("jobs", jobs, 1, 256)
+    choice = ExecutorChoice(executor, jobs)
     folder = check_output_folder("output", output)
     if cache_dir is not None:
         cache_dir = check_output_folder("cache_dir", cache_dir)
     plan = plan_run(scene, fidelity_level(fidelity or scene.fidelity))
-    check_plan(plan, oversubscribe=oversubscribe)
+    check_plan(plan, choice, oversubscribe=oversubscribe)
     cache_dir = cache_dir if cache_dir is not None else default_cache_root()
     _clear_previous(folder)
     if folder.is_dir():
@@ -162,7 +177,7 @@ def run_scene(
         raise SceneError(repr(plan.scene.name), [f"{keys}: {error}"]) from None
     meso = {stage.item: MesoSummary.from_json(run(stage)) for stage in meso_stages(plan)}
     if plan.scene.surface.path is None:
-        runs = SurfaceRuns(ResultCache(cache_dir / "rve-runs"), jobs, progress)
+        runs = SurfaceRuns(ResultCache(cache_dir / "rve-runs"), choice, progress)
         surface = SurfaceSummary.from_json(run(surface_stage(plan, runs)))
     else:
         begun = time.perf_counter()

@@ -29,6 +29,7 @@ from rve_rod.cache import ResultCache
 from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.loop import loop_geometry
 from rve_rod.homogenize.acceptance import SOFTENING_TOLERANCE
+from rve_rod.homogenize.executors import ExecutorChoice
 from rve_rod.homogenize.fit import FitOptions
 from rve_rod.homogenize.generate import engine_identity, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
@@ -203,12 +204,12 @@ class SurfaceRuns(NamedTuple):
 
     Attributes:
         cache: where every single run is cached (an interrupted stage resumes from it).
-        jobs: worker processes.
+        executor: where the runs are computed (local processes or MPI ranks).
         progress: stream for the progress bar (None: none).
     """
 
     cache: ResultCache
-    jobs: int
+    executor: ExecutorChoice
     progress: TextIO | None
 
 
@@ -234,7 +235,8 @@ def surface_stage(plan: RunPlan, runs: SurfaceRuns) -> Stage:
             plan.fit,
             kind=plan.scene.surface.kind,
             cache=runs.cache,
-            jobs=runs.jobs,
+            executor=runs.executor.kind,
+            jobs=runs.executor.jobs,
             progress=runs.progress,
         )
         write_surface(folder / SURFACE_FILE, generated.surface)
@@ -329,9 +331,16 @@ def macro_stages(plan: RunPlan, surface_path: Path) -> list[Stage]:
 def _macro_compute(job: PatchJob, surface_path: Path, ranks: int):
     def compute(folder: Path) -> dict:
         if ranks == 1:
-            from knitmech.macro import run_patch  # noqa: PLC0415 (dolfinx on demand)
+            import petsc4py  # noqa: PLC0415 (dolfinx on demand)
+            from mpi4py import MPI  # noqa: PLC0415
 
-            return run_patch(job, surface_path, folder).to_json()
+            # this process alone: under `python -m mpi4py.futures` (--executor mpi) the other
+            # ranks of COMM_WORLD serve RVE runs and take part in no collective call, not even
+            # PETSc's initialization (a no-op when PETSc is initialized already)
+            petsc4py.init(comm=MPI.COMM_SELF)
+            from knitmech.macro import run_patch  # noqa: PLC0415
+
+            return run_patch(job, surface_path, folder, MPI.COMM_SELF).to_json()
         return _run_patch_mpi(job, surface_path, folder, ranks).to_json()
 
     return compute

@@ -1,7 +1,7 @@
 """`rve-rod surface` (generate a response-surface file) and `rve-rod surface-info` (describe one).
 
-`surface` runs the rod RVE along the sampling plan (in parallel, cached, resumable), fits the
-surface and writes it.
+`surface` runs the rod RVE along the sampling plan (in parallel on local processes or MPI
+ranks, cached, resumable), fits the surface and writes it.
 """
 
 import argparse
@@ -11,6 +11,7 @@ import sys
 from rve_rod import limits
 from rve_rod.cache import ResultCache, default_runs_dir
 from rve_rod.cli.common import add_fabric_arguments, fabric_from_args, print_json
+from rve_rod.homogenize.executors import add_executor_argument
 from rve_rod.homogenize.fit import FitOptions, FitReport
 from rve_rod.homogenize.generate import GenerationError, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
@@ -55,7 +56,10 @@ def register(subparsers) -> None:
     parser.add_argument(
         "--steps", type=int, default=defaults.steps_per_ray, help="output steps per ray"
     )
-    parser.add_argument("--jobs", type=int, default=1, help="worker processes")
+    add_executor_argument(parser)
+    parser.add_argument(
+        "--jobs", type=int, default=1, help="local worker processes (default 1; not for mpi)"
+    )
     parser.add_argument(
         "--energy", action="store_true", help="write the energy fit (symmetric tangent)"
     )
@@ -95,11 +99,12 @@ def run_surface(args: argparse.Namespace) -> int:
             FitOptions(),
             kind="energy" if args.energy else "stress",
             cache=cache,
+            executor=args.executor,
             jobs=args.jobs,
             progress=sys.stderr,
         )
     except GenerationError as error:
-        print(f"rve-rod surface: interrupted: {error}", file=sys.stderr)
+        print(f"rve-rod surface: stopped: {error}", file=sys.stderr)
         return 1
     write_surface(output, generated.surface)
     runs = generated.runs

@@ -5,6 +5,7 @@ import logging
 import subprocess
 import sys
 import textwrap
+import time
 
 import numpy as np
 import pytest
@@ -166,3 +167,42 @@ def test_process_killed_while_storing_leaves_no_entry(tmp_path):
     assert cache.load({"case": 1}) is None
     leftovers = [p.name for p in tmp_path.rglob("*") if p.is_file()]
     assert len(leftovers) == 1 and leftovers[0].endswith(".tmp")
+
+
+def test_two_processes_storing_the_same_entry_leave_one_complete_entry(tmp_path, caplog):
+    # two writers (e.g. two sweeps on a shared file system) store the same key 20 times each,
+    # with different contents, while this process reads it: every read and the final entry
+    # must be one writer's whole array, never a mix or a truncated file
+    code = textwrap.dedent(
+        """
+        import sys, time
+        import numpy as np
+        from rve_rod.cache import ResultCache
+
+        folder, value, start = sys.argv[1], float(sys.argv[2]), float(sys.argv[3])
+        while time.time() < start:
+            time.sleep(0.001)
+        for _ in range(20):
+            ResultCache(folder).store({"case": 1}, {"F": np.full(400_000, value)})
+        """
+    )
+    start = f"{time.time() + 2.0}"
+    writers = [
+        subprocess.Popen([sys.executable, "-c", code, str(tmp_path), value, start])
+        for value in ("1.0", "2.0")
+    ]
+    cache = ResultCache(tmp_path)
+    seen = set()
+    with caplog.at_level(logging.WARNING, logger="rve_rod.cache"):
+        while any(writer.poll() is None for writer in writers):
+            arrays = cache.load({"case": 1})
+            if arrays is not None:
+                values = np.unique(arrays["F"])
+                assert values.size == 1 and arrays["F"].size == 400_000
+                seen.add(float(values[0]))
+    assert [writer.returncode for writer in writers] == [0, 0]
+    assert caplog.records == []  # no unreadable entry was ever seen (and deleted)
+    final = cache.load({"case": 1})["F"]
+    assert final.size == 400_000 and np.unique(final).size == 1
+    assert seen <= {1.0, 2.0} and seen
+    assert [p.name for p in tmp_path.rglob("*") if p.is_file()] == [cache.path({"case": 1}).name]

@@ -2,18 +2,17 @@
 
 import dataclasses
 import io
-import os
-import signal
 
 import numpy as np
 import pytest
+from failing_engines import FailingRve
 
 from rve_rod.cache import ResultCache
 from rve_rod.errors import ConvergenceError
 from rve_rod.homogenize.analytic import AnalyticRve
 from rve_rod.homogenize.generate import (
+    WORKER_DIED,
     GenerationError,
-    engine_identity,
     generate_surface,
     run_cases,
 )
@@ -25,23 +24,6 @@ from rve_rod.presets import load_preset
 FABRIC = load_preset("cotton-20s2", 5.5)
 PLAN = SamplingPlan(rays=8, steps_per_ray=6, shear_steps=6)
 CASES = [RveCase(FABRIC, path) for path in PLAN.load_paths()]
-
-
-@dataclasses.dataclass(frozen=True)
-class FailingRve(AnalyticRve):
-    """The analytic RVE that dies (or raises) on the wale-wise ray; same cache identity."""
-
-    how: str = "raise"
-
-    def cache_identity(self):
-        return engine_identity(AnalyticRve())
-
-    def __call__(self, case):
-        if case.load.kind == "biaxial" and case.load.angle_deg == 90.0:
-            if self.how == "kill":
-                os.kill(os.getpid(), signal.SIGKILL)
-            raise RuntimeError("simulated crash")
-        return super().__call__(case)
 
 
 def assert_same_runs(first, second):
@@ -77,19 +59,21 @@ def test_cached_runs_are_not_repeated(tmp_path):
 
 
 @pytest.mark.parametrize(("how", "jobs"), [("raise", 1), ("raise", 2), ("kill", 2)])
-def test_interrupted_generation_resumes(tmp_path, how, jobs):
+def test_a_failing_run_loses_no_other_run(tmp_path, how, jobs):
     cache = ResultCache(tmp_path)
-    expected_error = GenerationError if how == "kill" else RuntimeError
-    with pytest.raises(expected_error) as info:
+    with pytest.raises(GenerationError) as info:
         run_cases(CASES, FailingRve(how=how), cache=cache, jobs=jobs)
-    if how == "kill":
-        assert "run again to resume" in str(info.value)
+    (failure,) = info.value.failures
+    assert failure.case.load.angle_deg == 90.0
+    assert failure.reason == (WORKER_DIED if how == "kill" else "RuntimeError: simulated crash")
+    assert "1 of 9 runs failed; the 8 others are cached" in str(info.value)
     finals = list(tmp_path.rglob("*.npz"))
-    assert 0 < len(finals) < len(CASES)
+    assert len(finals) == len(CASES) - 1
     for path in finals:  # every entry under a final name is complete and readable
         assert np.load(path)["first_piola"].shape[1:] == (2, 2)
+    assert not list(tmp_path.rglob("*.tmp"))
     resumed = run_cases(CASES, AnalyticRve(), cache=cache, jobs=jobs)
-    assert resumed.computed == len(CASES) - len(finals) and resumed.cached == len(finals)
+    assert (resumed.computed, resumed.cached) == (1, len(CASES) - 1)
     assert_same_runs(resumed.runs, run_cases(CASES, AnalyticRve()).runs)
 
 
@@ -106,16 +90,16 @@ def test_runs_stopped_early_are_kept_and_reported():
     assert generated.samples.biaxial_strain[:, :2].min() >= -0.04 - 1e-12
 
 
-def test_a_convergence_error_without_history_propagates():
+def test_a_convergence_error_without_history_is_a_failure():
     def broken(case):
         raise ConvergenceError("no converged step")
 
-    with pytest.raises(ConvergenceError):
+    with pytest.raises(GenerationError, match="ConvergenceError: no converged step"):
         run_cases(CASES[:1], broken)
 
 
 def test_engine_must_return_an_rve_run():
-    with pytest.raises(TypeError, match="RveRun"):
+    with pytest.raises(GenerationError, match="TypeError: the RVE engine returned dict"):
         run_cases(CASES[:1], lambda case: {"F": 1})
 
 
