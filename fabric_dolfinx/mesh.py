@@ -108,7 +108,8 @@ def mesh_gmsh_model(
     current model), refine, check and distribute the mesh over `comm`.
 
     Raises InputError (on every rank) when the mesh has cells other than 4-node
-    quadrilaterals, no physical surface, or cells in two physical surfaces.
+    quadrilaterals, no physical surface, or a curve (surface) in two physical curves
+    (surfaces).
     """
     check_integer("refinements", refinements, 0, 6)
     groups = None
@@ -165,15 +166,17 @@ def _physical_groups(source: str) -> tuple[dict[str, int], dict[str, int]]:
     }
     if not regions:
         raise InputError(f"{source}: no physical surface (a region) is defined")
-    owner: dict[int, str] = {}
-    for name, tag in regions.items():
-        for entity in gmsh.model.getEntitiesForPhysicalGroup(2, tag):
-            if entity in owner:
-                raise InputError(
-                    f"{source}: surface {entity} belongs to the physical surfaces "
-                    f"{owner[entity]!r} and {name!r}; regions must not overlap"
-                )
-            owner[entity] = name
+    # a DOLFINx mesh tag holds one value per entity: overlapping groups would lose names
+    for dim, groups, kind in ((1, boundaries, "curves"), (2, regions, "surfaces")):
+        owner: dict[int, str] = {}
+        for name, tag in groups.items():
+            for entity in gmsh.model.getEntitiesForPhysicalGroup(dim, tag):
+                if entity in owner:
+                    raise InputError(
+                        f"{source}: {kind[:-1]} {entity} belongs to the physical {kind} "
+                        f"{owner[entity]!r} and {name!r}; they must not overlap"
+                    )
+                owner[entity] = name
     unnamed = [n for n in (*boundaries, *regions) if not n]
     if unnamed:
         raise InputError(f"{source}: every physical group needs a name")
