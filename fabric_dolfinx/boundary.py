@@ -14,7 +14,6 @@ Dirichlet value wins there).
 """
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 import ufl
@@ -23,52 +22,13 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from fabric_dolfinx.mesh import TaggedMesh
+from fabric_dolfinx.part_spec import COMPONENTS, BoundaryCondition
 from rve_rod.errors import InputError
 
 __all__ = [
-    "BOUNDARY_KINDS",
-    "COMPONENTS",
-    "BoundaryCondition",
     "BoundaryLoads",
     "check_overlaps",
 ]
-
-BOUNDARY_KINDS = ("clamp", "displacement", "roller", "traction", "free")
-COMPONENTS = {"x": 0, "y": 1}
-
-
-@dataclass(frozen=True)
-class BoundaryCondition:
-    """A condition on one named boundary (see the module docstring for the kinds).
-
-    Attributes:
-        name: a physical curve of the mesh.
-        kind: one of BOUNDARY_KINDS.
-        vector: (ux, uy) mm for `displacement`, (tx, ty) N/mm for `traction`, at t = 1.
-        component: "x" or "y", the component a `roller` holds.
-        value: the roller's displacement at t = 1 (mm).
-    """
-
-    name: str
-    kind: str = "clamp"
-    vector: tuple[float, float] = (0.0, 0.0)
-    component: str = "x"
-    value: float = 0.0
-
-    def __post_init__(self):
-        if self.kind not in BOUNDARY_KINDS:
-            raise InputError(
-                f"boundary {self.name!r}: kind={self.kind!r} is not one of "
-                f"{', '.join(BOUNDARY_KINDS)}"
-            )
-        if len(self.vector) != 2 or not all(np.isfinite(self.vector)):
-            raise InputError(f"boundary {self.name!r}: vector={self.vector!r} needs 2 numbers")
-        if self.component not in COMPONENTS:
-            raise InputError(f"boundary {self.name!r}: component={self.component!r} is not x or y")
-
-    @property
-    def dirichlet(self) -> bool:
-        return self.kind in ("clamp", "displacement", "roller")
 
 
 def check_overlaps(tagged: TaggedMesh, conditions: Sequence[BoundaryCondition]) -> None:

@@ -21,10 +21,11 @@ from dolfinx import fem
 from dolfinx.io import XDMFFile
 from mpi4py import MPI
 
-from fabric_dolfinx.boundary import BoundaryCondition, BoundaryLoads
+from fabric_dolfinx.boundary import BoundaryLoads
 from fabric_dolfinx.domain import StrainRangeCheck
 from fabric_dolfinx.membrane import membrane_forms, membrane_stress
 from fabric_dolfinx.mesh import TaggedMesh
+from fabric_dolfinx.part_spec import BoundaryCondition
 from fabric_dolfinx.regions import Region, assign_regions, cell_field
 from fabric_dolfinx.solve import (
     LoadStepper,

@@ -19,89 +19,18 @@ cell centres (`fabric_dolfinx.regions`), and a user's gmsh file names its own re
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import gmsh
 from mpi4py import MPI
 
 from fabric_dolfinx.mesh import MESH_DIRECTORY, mesh_gmsh_model, read_geo
-from rve_rod.errors import InputError, check_integer, check_positive
+from fabric_dolfinx.part_spec import MeshSpec, shape_size
+from rve_rod.errors import InputError
 
 __all__ = [
-    "SHAPES",
-    "SHAPE_DIMENSIONS",
-    "MeshSpec",
     "make_mesh",
-    "shape_size",
 ]
-
-SHAPES = ("rectangle", "patch", "cruciform", "plate_with_hole", "disc")
-"""Names of the built-in shapes."""
-
-SHAPE_DIMENSIONS = {
-    "rectangle": {"width": 50.0, "height": 50.0},
-    "patch": {},
-    "cruciform": {"width": 50.0, "arm_length": 50.0},
-    "plate_with_hole": {"width": 50.0, "height": 50.0, "radius": 10.0},
-    "disc": {"radius": 25.0},
-}
-"""Shape -> its dimensions (mm) with their defaults."""
-
-
-@dataclass(frozen=True)
-class MeshSpec:
-    """A fabric mesh: a built-in shape with its dimensions, or a gmsh file.
-
-    Attributes:
-        shape: one of SHAPES, or None when `file` is given.
-        dimensions: the shape's dimensions (mm), see SHAPE_DIMENSIONS; missing ones take
-            the defaults.
-        file: a gmsh `.geo` (meshed here) or `.msh` file (used as it is).
-        parameters: values of the `.geo` file's DefineConstant parameters.
-        element_size: target quadrilateral edge (mm) of a built-in shape (and the `size`
-            parameter of plate_with_hole); None: shape_size / 10.
-        refinements: uniform refinements after meshing (each quad split into four).
-    """
-
-    shape: str | None = "patch"
-    dimensions: dict[str, float] = field(default_factory=dict)
-    file: str | None = None
-    parameters: dict[str, float] = field(default_factory=dict)
-    element_size: float | None = None
-    refinements: int = 0
-
-    def __post_init__(self):
-        if (self.shape is None) == (self.file is None):
-            raise InputError("a mesh needs exactly one of shape and file")
-        if self.shape is not None:
-            if self.shape not in SHAPES:
-                raise InputError(f"shape={self.shape!r} is not one of {', '.join(SHAPES)}")
-            valid = SHAPE_DIMENSIONS[self.shape]
-            for key, value in self.dimensions.items():
-                if key not in valid:
-                    names = ", ".join(valid) or "none"
-                    raise InputError(f"{key!r} is not a dimension of {self.shape} ({names})")
-                check_positive(key, value, "mm")
-        if self.element_size is not None:
-            check_positive("element_size", self.element_size, "mm")
-        check_integer("refinements", self.refinements, 0, 6)
-
-    def dimension(self, key: str) -> float:
-        """The dimension `key` (mm), given or default."""
-        if self.shape == "patch":
-            return 50.0
-        return float(self.dimensions.get(key, SHAPE_DIMENSIONS[self.shape][key]))
-
-
-def shape_size(spec: MeshSpec) -> float:
-    """The characteristic length of a built-in shape (mm): the smallest of its width, height
-    or diameter; the default element size is a tenth of it."""
-    if spec.shape in ("rectangle", "plate_with_hole"):
-        return min(spec.dimension("width"), spec.dimension("height"))
-    if spec.shape == "disc":
-        return 2.0 * spec.dimension("radius")
-    return spec.dimension("width") if spec.shape == "cruciform" else 50.0
 
 
 def make_mesh(spec: MeshSpec, comm: MPI.Comm = MPI.COMM_WORLD, base: Path | None = None):

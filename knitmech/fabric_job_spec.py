@@ -1,0 +1,65 @@
+"""The job of the fabric stage, without DOLFINx (the pipeline plans and caches with it).
+
+`knitmech.fabric_job` runs it (in-process or under mpirun, after a JSON round trip).
+"""
+
+import dataclasses
+from dataclasses import dataclass
+
+from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
+from knitmech.scene_fabric import PartSpec, RegionSpec
+from rve_rod.jsonable import to_jsonable
+
+__all__ = ["FabricJob", "RegionMaterial"]
+
+
+@dataclass(frozen=True)
+class RegionMaterial:
+    """The material of one region: a surface file or SVK constants, and its stitch value.
+
+    Attributes:
+        surface: path of a response-surface file, or None.
+        svk: OrthotropicSVK constants (N/mm), or None.
+        stitch: the stitch value (mm) written to the output, or None.
+    """
+
+    surface: str | None = None
+    svk: dict[str, float] | None = None
+    stitch: float | None = None
+
+
+@dataclass(frozen=True)
+class FabricJob:
+    """Everything the fabric stage needs (JSON round trip for the MPI run).
+
+    Attributes:
+        part: the resolved part (element size filled in).
+        materials: one RegionMaterial per region of the part.
+        steps: equal load steps from t = 0 to 1.
+        element_degree: Lagrange degree of the displacement.
+    """
+
+    part: PartSpec
+    materials: tuple[RegionMaterial, ...]
+    steps: int
+    element_degree: int = 1
+
+    def to_json(self) -> dict:
+        return to_jsonable(dataclasses.asdict(self))
+
+    @classmethod
+    def from_json(cls, data: dict) -> "FabricJob":
+        part = data["part"]
+        boundaries = tuple(
+            BoundaryCondition(**{**b, "vector": tuple(b["vector"])}) for b in part["boundaries"]
+        )
+        return cls(
+            part=PartSpec(
+                mesh=MeshSpec(**part["mesh"]),
+                regions=tuple(RegionSpec(**r) for r in part["regions"]),
+                boundaries=boundaries,
+            ),
+            materials=tuple(RegionMaterial(**m) for m in data["materials"]),
+            steps=data["steps"],
+            element_degree=data["element_degree"],
+        )
