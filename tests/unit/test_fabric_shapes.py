@@ -9,7 +9,8 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from fabric_dolfinx.field_expression import FieldExpression
-from fabric_dolfinx.shapes import MeshSpec, make_mesh
+from fabric_dolfinx.part_spec import MeshSpec
+from fabric_dolfinx.shapes import make_mesh
 from rve_rod.errors import InputError
 
 

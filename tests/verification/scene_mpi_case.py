@@ -9,12 +9,12 @@ import json
 
 from mpi4py import MPI
 
-from fabric_dolfinx.boundary import BoundaryCondition
 from fabric_dolfinx.field_expression import FieldExpression
 from fabric_dolfinx.material import OrthotropicSVK, svk_material
+from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
 from fabric_dolfinx.regions import Region
 from fabric_dolfinx.scene_solve import FabricProblem
-from fabric_dolfinx.shapes import MeshSpec, make_mesh
+from fabric_dolfinx.shapes import make_mesh
 from fabric_dolfinx.solve import SolverOptions
 from rve_rod.jsonable import to_jsonable
 

@@ -19,12 +19,12 @@ import numpy as np
 import pytest
 import scipy.optimize
 
-from fabric_dolfinx.boundary import BoundaryCondition
 from fabric_dolfinx.field_expression import FieldExpression
 from fabric_dolfinx.material import OrthotropicSVK, svk_material
+from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
 from fabric_dolfinx.regions import Region
 from fabric_dolfinx.scene_solve import FabricProblem, SceneFields, principal_stresses
-from fabric_dolfinx.shapes import MeshSpec, make_mesh
+from fabric_dolfinx.shapes import make_mesh
 from fabric_dolfinx.solve import SolverOptions
 from rve_rod.errors import InputError
 
