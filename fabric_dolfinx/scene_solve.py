@@ -11,13 +11,13 @@ writes the cell fields (`SceneFields`) to XDMF.
 
 import logging
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
 import ufl
-from dolfinx import fem
+from dolfinx import fem, geometry
 from dolfinx.io import XDMFFile
 from mpi4py import MPI
 
@@ -34,14 +34,16 @@ from fabric_dolfinx.solve import (
     StepRecord,
     boundary_indicator,
 )
-from rve_rod.errors import ConvergenceError, check_integer
+from rve_rod.errors import ConvergenceError, InputError, check_integer
 
 __all__ = [
     "BoundaryCurve",
     "FabricProblem",
+    "ProbeRecord",
     "SceneFields",
     "SceneResult",
     "principal_stresses",
+    "shear_angle",
 ]
 
 logger = logging.getLogger(__name__)
@@ -64,6 +66,26 @@ class BoundaryCurve(NamedTuple):
     displacement: np.ndarray
 
 
+class ProbeRecord(NamedTuple):
+    """The state of the cell that holds a probe point, per step (index 0: unloaded).
+
+    Attributes:
+        point: (x, y) the point asked for (mm).
+        centre: (x, y) centre of the cell holding it, where the values are taken (mm).
+        strain: (k+1, 2, 2) Green-Lagrange strain E (global frame, -).
+        cauchy: (k+1, 2, 2) Cauchy stress (N/mm).
+        shear_angle: (k+1,) change of the angle between the course and wale directions
+            (degrees; positive when it closes): asin(a1.C a2 / sqrt(a1.C a1 a2.C a2)),
+            C = I + 2E, a1, a2 the material axes of the cell.
+    """
+
+    point: tuple[float, float]
+    centre: np.ndarray
+    strain: np.ndarray
+    cauchy: np.ndarray
+    shear_angle: np.ndarray
+
+
 class SceneResult(NamedTuple):
     """A load path of a fabric part.
 
@@ -73,6 +95,7 @@ class SceneResult(NamedTuple):
         newton_iterations: (k,) Newton iterations of each converged step.
         cutbacks: failed attempts retried with half the increment.
         outside_domain: region name -> whether its strains left its surface's domain.
+        probes: probe name -> ProbeRecord.
         dofs: global degrees of freedom; ranks: MPI ranks; wall_time_s: path time (s).
         path: the solver's record.
     """
@@ -82,10 +105,21 @@ class SceneResult(NamedTuple):
     newton_iterations: np.ndarray
     cutbacks: int
     outside_domain: dict[str, bool]
+    probes: dict[str, ProbeRecord]
     dofs: int
     ranks: int
     wall_time_s: float
     path: PathResult
+
+
+def shear_angle(strain: np.ndarray, angle: float) -> float:
+    """Change of the angle between the material axes (degrees) under the Green-Lagrange
+    strain `strain` (2, 2), axes at `angle` radians (see ProbeRecord)."""
+    C = np.eye(2) + 2.0 * strain
+    a1 = np.array([np.cos(angle), np.sin(angle)])
+    a2 = np.array([-np.sin(angle), np.cos(angle)])
+    cosine = a1 @ C @ a2 / np.sqrt((a1 @ C @ a1) * (a2 @ C @ a2))
+    return float(np.degrees(np.arcsin(np.clip(cosine, -1.0, 1.0))))
 
 
 def principal_stresses(stress: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -110,6 +144,7 @@ class FabricProblem:
         element_degree: Lagrange degree of the displacement (1 or 2).
         quadrature_degree: Gauss rule exactness; None: twice the element degree.
         options: Newton and load-stepping settings.
+        probes: name -> (x, y) mm: points whose cell's state is recorded every step.
 
     Attributes:
         u: the displacement (mm); cells: the RegionCells; loads: the BoundaryLoads;
@@ -125,6 +160,7 @@ class FabricProblem:
         element_degree: int = 1,
         quadrature_degree: int | None = None,
         options: SolverOptions | None = None,
+        probes: Mapping[str, tuple[float, float]] | None = None,
     ):
         check_integer("element_degree", element_degree, 1, 2)
         self.tagged, self.regions = tagged, tuple(regions)
@@ -160,6 +196,28 @@ class FabricProblem:
         )
         self._displacement_forms = self.loads.displacement_forms(self.u)
         self.dofs = space.dofmap.index_map.size_global * space.dofmap.index_map_bs
+        self.probes = {name: _probe_cell(mesh, point) for name, point in (probes or {}).items()}
+        self._probe_points = {name: tuple(point) for name, point in (probes or {}).items()}
+
+    def probe_values(self, fields: "SceneFields") -> dict[str, tuple]:
+        """Probe name -> (centre, strain (2, 2), cauchy (2, 2), shear angle) of its cell, from
+        the cell fields (collective: the owning rank's values)."""
+        comm = self.tagged.mesh.comm
+        values = {}
+        owned = self.tagged.mesh.topology.index_map(2).size_local
+        for name, cell in self.probes.items():
+            local = None
+            if 0 <= cell < owned:
+                dof = fields.cell_dofs[cell]
+                strain = fields.strain.x.array.reshape(-1, 2, 2)[dof].copy()
+                local = (
+                    self.cells.centres[cell].copy(),
+                    strain,
+                    fields.cauchy.x.array.reshape(-1, 2, 2)[dof].copy(),
+                    shear_angle(strain, self.angle.x.array[dof]),
+                )
+            values[name] = next(v for v in comm.allgather(local) if v is not None)
+        return values
 
     def boundary_displacements(self) -> dict[str, np.ndarray]:
         """Boundary name -> mean displacement (ux, uy) mm at the current state (collective)."""
@@ -199,7 +257,10 @@ class FabricProblem:
             if region.material.domain is not None
         }
         outside = {region.name: False for region in self.regions}
-        cell_fields = SceneFields(self) if (xdmf or fields) else None
+        cell_fields = SceneFields(self) if (xdmf or fields or self.probes) else None
+        if cell_fields is not None:
+            cell_fields.update()
+        probed = [self.probe_values(cell_fields)] if self.probes else []
         states = [(0.0, self.boundary_displacements())]
         start = time.perf_counter()
 
@@ -211,12 +272,13 @@ class FabricProblem:
                 cell_fields.update()
                 if output is not None:
                     cell_fields.write(output, step.load_factor)
+                if self.probes:
+                    probed.append(self.probe_values(cell_fields))
             if on_step is not None:
                 on_step(step.load_factor, cell_fields)
 
         def solve(output):
             if output is not None:
-                cell_fields.update()
                 cell_fields.write(output, 0.0)
             return self.stepper.run(
                 self.loads.set_load_factor, lambda step: after_step(step, output)
@@ -230,14 +292,27 @@ class FabricProblem:
             else:
                 path = solve(None)
         except ConvergenceError as error:
-            partial = self._result(error.history, states, outside, time.perf_counter() - start)
+            partial = self._result(
+                error.history, states, probed, outside, time.perf_counter() - start
+            )
             raise ConvergenceError(
                 str(error), last_converged=error.last_converged, history=partial
             ) from None
-        return self._result(path, states, outside, time.perf_counter() - start)
+        return self._result(path, states, probed, outside, time.perf_counter() - start)
 
-    def _result(self, path: PathResult, states, outside, wall_time: float) -> SceneResult:
+    def _result(self, path: PathResult, states, probed, outside, wall_time: float) -> SceneResult:
         states = states[: len(path.steps) + 1]
+        probed = probed[: len(path.steps) + 1]
+        probes = {
+            name: ProbeRecord(
+                point=self._probe_points[name],
+                centre=probed[0][name][0],
+                strain=np.array([p[name][1] for p in probed]),
+                cauchy=np.array([p[name][2] for p in probed]),
+                shear_angle=np.array([p[name][3] for p in probed]),
+            )
+            for name in self.probes
+        }
         load_factor = np.array([t for t, _ in states])
         curves = {}
         for condition in self.conditions:
@@ -260,6 +335,7 @@ class FabricProblem:
             newton_iterations=np.array([s.iterations for s in path.steps], dtype=int),
             cutbacks=path.cutbacks,
             outside_domain=dict(outside),
+            probes=probes,
             dofs=self.dofs,
             ranks=self.tagged.mesh.comm.size,
             wall_time_s=wall_time,
@@ -277,6 +353,7 @@ class SceneFields:
         principal_direction: unit vector of sigma_1 (deformed configuration).
         region: region number; stitch: stitch value (0 where none);
         course_direction: degrees from the x axis.
+        cell_dofs: (local cells,) the DG0 dof of each cell.
     """
 
     def __init__(self, problem: FabricProblem):
@@ -306,7 +383,7 @@ class SceneFields:
                     fem.Expression(stress.cauchy, points),
                 )
             )
-        self._cell_dofs = tensors.dofmap.list.array.reshape(cells.index.size, -1)[:, 0]
+        self.cell_dofs = tensors.dofmap.list.array.reshape(cells.index.size, -1)[:, 0]
         self._u = u
         degree = mesh.geometry.cmap.degree
         if u.function_space.ufl_element().degree() == degree:
@@ -322,7 +399,7 @@ class SceneFields:
         for cells, strain_expression, cauchy_expression in self._regions:
             if cells.size == 0:
                 continue
-            dofs = self._cell_dofs[cells]
+            dofs = self.cell_dofs[cells]
             strain[dofs] = strain_expression.eval(cells).reshape(-1, 2, 2)
             cauchy[dofs] = cauchy_expression.eval(cells).reshape(-1, 2, 2)
         values, directions = principal_stresses(cauchy)
@@ -348,3 +425,21 @@ class SceneFields:
         """Append every field at `time` (the load factor)."""
         for function in self.functions():
             output.write_function(function, time)
+
+
+def _probe_cell(mesh, point) -> int:
+    """The local cell holding `point` (x, y) mm on this rank, or -1; InputError when no rank
+    holds it (collective)."""
+    points = np.array([[float(point[0]), float(point[1]), 0.0]])
+    tree = geometry.BoundingBoxTree(mesh, mesh.topology.dim)
+    candidates = geometry.compute_collisions(tree, points)
+    colliding = geometry.compute_colliding_cells(mesh, candidates, points)
+    links = colliding.links(0)
+    owned = mesh.topology.index_map(2).size_local
+    local = [int(c) for c in links if c < owned]
+    cell = local[0] if local else -1
+    found = mesh.comm.allgather(cell >= 0)
+    if not any(found):
+        raise InputError(f"probe point ({point[0]:.6g}, {point[1]:.6g}) mm is not in the part")
+    # one owner: the lowest rank that holds it
+    return cell if found.index(True) == mesh.comm.rank else -1

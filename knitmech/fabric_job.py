@@ -83,6 +83,7 @@ def run_fabric(job: FabricJob, folder: Path, comm=MPI.COMM_WORLD) -> dict:
         job.part.boundaries,
         element_degree=job.element_degree,
         options=SolverOptions(steps=job.steps),
+        probes=job.part.probes,
     )
     message = ""
     try:
@@ -107,6 +108,7 @@ def _summary(result: SceneResult, message: str, cells: int) -> dict:
             "newton_iterations": result.newton_iterations,
             "cutbacks": result.cutbacks,
             "outside_domain": result.outside_domain,
+            "probes": {name: probe._asdict() for name, probe in result.probes.items()},
             "dofs": result.dofs,
             "cells": cells,
             "ranks": result.ranks,

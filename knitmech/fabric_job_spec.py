@@ -58,6 +58,7 @@ class FabricJob:
                 mesh=MeshSpec(**part["mesh"]),
                 regions=tuple(RegionSpec(**r) for r in part["regions"]),
                 boundaries=boundaries,
+                probes={k: tuple(v) for k, v in part["probes"].items()},
             ),
             materials=tuple(RegionMaterial(**m) for m in data["materials"]),
             steps=data["steps"],

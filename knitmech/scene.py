@@ -234,12 +234,12 @@ def scene_from_dict(data: dict, source: str = "<dict>", base: Path | None = None
     else:
         part = None
     for key, value in data.items():
-        if key in sections or key in ("region", "boundary"):
+        if key in sections or key in ("region", "boundary", "probe"):
             continue
         if key not in ("name", "fidelity"):
             problems.append(
                 f"{key}: unknown key (valid: name, fidelity, {', '.join(sections)}, region, "
-                "boundary)"
+                "boundary, probe)"
             )
             continue
         top[key] = value

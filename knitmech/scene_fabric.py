@@ -97,11 +97,14 @@ class PartSpec:
         mesh: the shape or gmsh file (a relative file resolved against the scene's folder).
         regions: the regions, in order (later ones take cells from earlier ones).
         boundaries: the boundary conditions.
+        probes: name -> (x, y) mm, points whose cell's strain, stress and shear angle are
+            recorded every step.
     """
 
     mesh: MeshSpec
     regions: tuple[RegionSpec, ...]
     boundaries: tuple[BoundaryCondition, ...]
+    probes: dict[str, tuple[float, float]] = field(default_factory=dict)
 
     def resolved(self, elements: int) -> "PartSpec":
         """With the element size of a built-in shape filled in: its characteristic length
@@ -125,7 +128,11 @@ def read_part(
     regions = data.get("region")
     boundaries = data.get("boundary")
     if shape is None and mesh is None:
-        for key, value in (("region", regions), ("boundary", boundaries)):
+        for key, value in (
+            ("region", regions),
+            ("boundary", boundaries),
+            ("probe", data.get("probe")),
+        ):
             if value is not None:
                 problems.append(f"{key}: needs [fabric.shape] or [fabric.mesh]")
         return None
@@ -166,9 +173,31 @@ def read_part(
         )
     if spec is not None and spec.shape is not None:
         _check_shape_names(spec, region_specs, boundary_specs, problems)
+    probes = _read_probes(data.get("probe"), problems)
     if len(problems) > count or spec is None:
         return None
-    return PartSpec(spec, region_specs, boundary_specs)
+    return PartSpec(spec, region_specs, boundary_specs, probes)
+
+
+def _read_probes(value, problems: list[str]) -> dict[str, tuple[float, float]]:
+    probes = {}
+    for index, table in enumerate(_tables("probe", value, problems)):
+        prefix = f"probe[{index}]"
+        _unknown(prefix, table, ("name", "x", "y"), problems)
+        name = table.get("name")
+        if not isinstance(name, str) or not name or name in probes:
+            problems.append(f"{prefix}.name: required, a name of its own, got {name!r}")
+            continue
+        point = []
+        for key in ("x", "y"):
+            value = table.get(key)
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                problems.append(f"{prefix}.{key}: required, a coordinate in mm, got {value!r}")
+            else:
+                point.append(float(value))
+        if len(point) == 2:
+            probes[name] = (point[0], point[1])
+    return probes
 
 
 def region_knit(fabric: dict, region: RegionSpec) -> dict[str, Any]:
@@ -463,4 +492,6 @@ def part_toml(part: PartSpec) -> str:
         if boundary.kind == "roller":
             lines.append(f"component = {toml_value(boundary.component)}")
             lines.append(f"value = {boundary.value!r}")
+    for name, (x, y) in part.probes.items():
+        lines += ["", "[[probe]]", f"name = {toml_value(name)}", f"x = {x!r}", f"y = {y!r}"]
     return "\n".join(lines) + "\n"
