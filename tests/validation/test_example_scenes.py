@@ -147,9 +147,7 @@ def test_cruciform_arms_carry_equal_forces_in_equilibrium(tmp_path, cache):
 def test_plate_with_hole_far_field_stress_is_the_nominal_stress(tmp_path, cache):
     def edit(data):
         # isotropic, no Poisson contraction: the clamps do not disturb the far field
-        svk(course_stiffness=1.0, wale_stiffness=1.0, poissons_ratio=0.0, shear_stiffness=0.5)(
-            data
-        )
+        svk(course_stiffness=1.0, wale_stiffness=1.0, poissons_ratio=0.0, shear_stiffness=0.5)(data)
         data["boundary"][1]["displacement"] = [0.0, 0.1]  # 0.1 %: small strain
         data["fabric"]["shape"]["element_size"] = 2.5
         # a longer plate: the hole's stress shadow (~ radius^2 / distance^2) fades
