@@ -18,6 +18,7 @@ __all__ = [
     "SHAPE_DIMENSIONS",
     "BoundaryCondition",
     "MeshSpec",
+    "gmsh_names",
     "shape_size",
 ]
 
@@ -125,3 +126,27 @@ class BoundaryCondition:
     @property
     def dirichlet(self) -> bool:
         return self.kind in ("clamp", "displacement", "roller")
+
+
+def gmsh_names(path, parameters=None) -> tuple[list[str], list[str]]:
+    """(physical curve names, physical surface names) of a gmsh `.geo` or `.msh` file, read
+    without meshing (InputError when gmsh cannot read it)."""
+    import gmsh  # noqa: PLC0415 (gmsh only for scenes with a mesh file)
+
+    arguments = ["fabric_dolfinx"]
+    for name, value in (parameters or {}).items():
+        arguments += ["-setnumber", name, repr(float(value))]
+    gmsh.initialize(arguments)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        try:
+            gmsh.open(str(path))
+        except Exception as error:  # gmsh raises plain Exceptions
+            raise InputError(f"gmsh cannot read {path}: {error}") from None
+        names = [
+            [gmsh.model.getPhysicalName(dim, tag) for _, tag in gmsh.model.getPhysicalGroups(dim)]
+            for dim in (1, 2)
+        ]
+    finally:
+        gmsh.finalize()
+    return names[0], names[1]

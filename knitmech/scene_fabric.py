@@ -38,6 +38,7 @@ from fabric_dolfinx.part_spec import (
     SHAPES,
     BoundaryCondition,
     MeshSpec,
+    gmsh_names,
     shape_size,
 )
 from rve_rod.errors import InputError
@@ -172,7 +173,17 @@ def read_part(
             "boundary: no clamp, displacement or roller: nothing holds the part in place"
         )
     if spec is not None and spec.shape is not None:
-        _check_shape_names(spec, region_specs, boundary_specs, problems)
+        names = (_SHAPE_BOUNDARIES[spec.shape], ("fabric",))
+        _check_names(spec.shape, names, region_specs, boundary_specs, problems)
+    elif spec is not None and Path(spec.file).is_file():
+        try:
+            names = gmsh_names(spec.file, spec.parameters)
+        except InputError as error:
+            problems.append(f"fabric.mesh.file: {error}")
+        else:
+            if regions is None:  # every physical surface, with the [fabric] knit
+                region_specs = tuple(RegionSpec(name=name) for name in names[1]) or region_specs
+            _check_names(Path(spec.file).name, names, region_specs, boundary_specs, problems)
     probes = _read_probes(data.get("probe"), problems)
     if len(problems) > count or spec is None:
         return None
@@ -433,20 +444,20 @@ _SHAPE_BOUNDARIES = {
 }
 
 
-def _check_shape_names(spec: MeshSpec, regions, boundaries, problems: list[str]) -> None:
-    """Names a built-in shape does not have (a gmsh file's are checked when it is meshed)."""
-    names = _SHAPE_BOUNDARIES[spec.shape]
+def _check_names(source: str, names, regions, boundaries, problems: list[str]) -> None:
+    """Boundary and region names the mesh does not have, naming those it has."""
+    curves, surfaces = names
     for index, boundary in enumerate(boundaries):
-        if boundary is not None and boundary.name not in names:
+        if boundary is not None and boundary.name not in curves:
             problems.append(
-                f"boundary[{index}].name: {spec.shape} has no boundary {boundary.name!r}; "
-                f"its boundaries: {', '.join(names)}"
+                f"boundary[{index}].name: {source} has no boundary {boundary.name!r}; "
+                f"its boundaries: {', '.join(curves) or 'none'}"
             )
     for index, region in enumerate(regions):
-        if region.where is None and region.name != "fabric":
+        if region.where is None and region.name not in surfaces:
             problems.append(
-                f"region[{index}].name: {spec.shape} has one region, 'fabric'; "
-                f"{region.name!r} needs a where condition"
+                f"region[{index}].name: {source} has no region {region.name!r} (its regions: "
+                f"{', '.join(surfaces) or 'none'}); a new region needs a where condition"
             )
 
 
