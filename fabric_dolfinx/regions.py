@@ -38,17 +38,28 @@ class Region:
 
     Attributes:
         name: a physical surface of the mesh, or any name when `where` is given.
-        material: the membrane material (its law sees the strain in the course/wale frame).
+        material: the membrane material (its law sees the strain in the course/wale frame);
+            None for a graded region.
         angle: course direction, degrees from the x axis: a number or an expression of x, y.
         where: a condition of x, y (mm) selecting cells by their centres, or None.
-        stitch: the stitch value written to the output (a number, an expression, or None).
+        stitch: the stitch value (mm; a number, an expression, or None): written to the
+            output, and for a graded region the value its law is interpolated at.
+        family: a graded region's laws at a few stitch values, ((stitch, Material), ...)
+            (`fabric_dolfinx.graded`), or None.
     """
 
     name: str
-    material: Material
+    material: Material | None
     angle: float | FieldExpression = 0.0
     where: FieldExpression | None = None
     stitch: float | FieldExpression | None = None
+    family: tuple[tuple[float, Material], ...] | None = None
+
+    def __post_init__(self):
+        if (self.material is None) == (self.family is None):
+            raise InputError(f"region {self.name!r} needs exactly one of material and family")
+        if self.family is not None and self.stitch is None:
+            raise InputError(f"region {self.name!r}: a graded region needs its stitch value")
 
 
 class RegionCells(NamedTuple):

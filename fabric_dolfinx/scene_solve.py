@@ -23,6 +23,8 @@ from mpi4py import MPI
 
 from fabric_dolfinx.boundary import BoundaryLoads
 from fabric_dolfinx.domain import StrainRangeCheck
+from fabric_dolfinx.graded import graded_material
+from fabric_dolfinx.material import Material
 from fabric_dolfinx.membrane import membrane_forms, membrane_stress
 from fabric_dolfinx.mesh import TaggedMesh
 from fabric_dolfinx.part_spec import BoundaryCondition
@@ -175,12 +177,14 @@ class FabricProblem:
         self.angle = cell_field(
             scalars, self.cells, [r.angle for r in self.regions], "angle", scale=np.pi / 180.0
         )
+        self.stitch = cell_field(scalars, self.cells, [r.stitch for r in self.regions], "stitch")
+        self.materials = tuple(self._material(number) for number in range(len(self.regions)))
         self.quadrature_degree = quadrature_degree or 2 * element_degree
         dx = ufl.Measure("dx", domain=mesh, subdomain_data=self.cells.tags)
         residual = jacobian = None
-        for number, region in enumerate(self.regions):
+        for number, material in enumerate(self.materials):
             forms = membrane_forms(
-                self.u, region.material.law, self.angle, self.quadrature_degree, dx(number)
+                self.u, material.law, self.angle, self.quadrature_degree, dx(number)
             )
             residual = forms.residual if residual is None else residual + forms.residual
             jacobian = forms.jacobian if jacobian is None else jacobian + forms.jacobian
@@ -219,6 +223,26 @@ class FabricProblem:
             values[name] = next(v for v in comm.allgather(local) if v is not None)
         return values
 
+    def _material(self, number: int) -> Material:
+        """The region's material; a graded region's from its family and the stitch field,
+        after checking that its cells' stitch values lie in the family's range."""
+        region = self.regions[number]
+        if region.family is None:
+            return region.material
+        values = self.stitch.x.array[self.stitch.function_space.dofmap.list.array][
+            self.cells.cells(number)
+        ]
+        comm = self.tagged.mesh.comm
+        low = comm.allreduce(values.min() if values.size else np.inf, op=MPI.MIN)
+        high = comm.allreduce(values.max() if values.size else -np.inf, op=MPI.MAX)
+        members = [value for value, _ in region.family]
+        if low < min(members) - 1e-12 or high > max(members) + 1e-12:
+            raise InputError(
+                f"region {region.name!r}: stitch values {low:.4g} ... {high:.4g} mm leave the "
+                f"family's range [{min(members):g}, {max(members):g}] mm"
+            )
+        return graded_material(region.family, self.stitch)
+
     def boundary_displacements(self) -> dict[str, np.ndarray]:
         """Boundary name -> mean displacement (ux, uy) mm at the current state (collective)."""
         comm = self.tagged.mesh.comm
@@ -247,14 +271,14 @@ class FabricProblem:
         self.loads.set_load_factor(0.0)
         checks = {
             region.name: StrainRangeCheck(
-                membrane_stress(self.u, region.material.law, self.angle).material_strain,
+                membrane_stress(self.u, self.materials[number].law, self.angle).material_strain,
                 self.tagged.mesh,
-                region.material.domain,
+                self.materials[number].domain,
                 self.quadrature_degree,
                 self.cells.cells(number),
             )
             for number, region in enumerate(self.regions)
-            if region.material.domain is not None
+            if self.materials[number].domain is not None
         }
         outside = {region.name: False for region in self.regions}
         cell_fields = SceneFields(self) if (xdmf or fields or self.probes) else None
@@ -369,13 +393,13 @@ class SceneFields:
         self.principal_direction = fem.Function(vectors, name="principal_direction")
         cells = problem.cells
         self.region = cell_field(scalars, cells, list(range(len(problem.regions))), "region")
-        self.stitch = cell_field(scalars, cells, [r.stitch for r in problem.regions], "stitch")
+        self.stitch = problem.stitch
         self.course_direction = cell_field(
             scalars, cells, [r.angle for r in problem.regions], "course_direction"
         )
         self._regions = []
-        for number, region in enumerate(problem.regions):
-            stress = membrane_stress(u, region.material.law, problem.angle)
+        for number, material in enumerate(problem.materials):
+            stress = membrane_stress(u, material.law, problem.angle)
             self._regions.append(
                 (
                     cells.cells(number),
