@@ -19,6 +19,7 @@ __all__ = [
     "BoundaryCondition",
     "MeshSpec",
     "gmsh_names",
+    "shape_points",
     "shape_size",
 ]
 
@@ -150,3 +151,29 @@ def gmsh_names(path, parameters=None) -> tuple[list[str], list[str]]:
     finally:
         gmsh.finalize()
     return names[0], names[1]
+
+
+def shape_points(spec: MeshSpec, count: int = 101) -> np.ndarray:
+    """(n, 2) points (mm) of a count x count grid over a built-in shape's bounding box that
+    lie in the shape (the hole of plate_with_hole included): for checking expressions of
+    x, y over the part before it is meshed."""
+    if spec.shape == "cruciform":
+        half = spec.dimension("width") / 2
+        end = half + spec.dimension("arm_length")
+        box = (-end, end, -end, end)
+    elif spec.shape == "disc":
+        radius = spec.dimension("radius")
+        box = (-radius, radius, -radius, radius)
+    elif spec.shape == "patch":
+        box = (0.0, 50.0, 0.0, 50.0)
+    else:
+        box = (0.0, spec.dimension("width"), 0.0, spec.dimension("height"))
+    x, y = np.meshgrid(np.linspace(*box[:2], count), np.linspace(*box[2:], count))
+    x, y = x.ravel(), y.ravel()
+    if spec.shape == "cruciform":
+        inside = (np.abs(x) <= half + 1e-9) | (np.abs(y) <= half + 1e-9)
+    elif spec.shape == "disc":
+        inside = x**2 + y**2 <= radius**2 * (1 + 1e-12)
+    else:
+        inside = np.ones(x.size, dtype=bool)
+    return np.column_stack([x[inside], y[inside]])

@@ -51,14 +51,21 @@ CURVES_FILE = "fabric/curves.json"
 
 
 def _region(spec: RegionSpec, material: RegionMaterial, index: int) -> Region:
-    if material.surface is not None:
-        law = surface_material(read_surface(material.surface), name=Path(material.surface).name)
-    else:
-        law = svk_material(OrthotropicSVK(**material.svk))
     angle = spec.angle
     if isinstance(angle, str):
         angle = FieldExpression(angle, f"region[{index}].angle")
     where = FieldExpression(spec.where, f"region[{index}].where") if spec.where else None
+    if material.family is not None:
+        family = tuple(
+            (stitch, surface_material(read_surface(path), name=Path(path).parent.name))
+            for stitch, path in material.family
+        )
+        stitch = FieldExpression(material.stitch, f"region[{index}].stitch")
+        return Region(spec.name, None, angle=angle, where=where, stitch=stitch, family=family)
+    if material.surface is not None:
+        law = surface_material(read_surface(material.surface), name=Path(material.surface).name)
+    else:
+        law = svk_material(OrthotropicSVK(**material.svk))
     return Region(spec.name, law, angle=angle, where=where, stitch=material.stitch)
 
 

@@ -15,17 +15,21 @@ __all__ = ["FabricJob", "RegionMaterial"]
 
 @dataclass(frozen=True)
 class RegionMaterial:
-    """The material of one region: a surface file or SVK constants, and its stitch value.
+    """The material of one region: a surface file, SVK constants or a graded family, and its
+    stitch value.
 
     Attributes:
         surface: path of a response-surface file, or None.
         svk: OrthotropicSVK constants (N/mm), or None.
-        stitch: the stitch value (mm) written to the output, or None.
+        stitch: the stitch value (mm) written to the output (for a graded region the
+            expression of x, y the law is interpolated at), or None.
+        family: a graded region's members ((stitch, surface path), ...), or None.
     """
 
     surface: str | None = None
     svk: dict[str, float] | None = None
-    stitch: float | None = None
+    stitch: float | str | None = None
+    family: tuple[tuple[float, str], ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -56,11 +60,18 @@ class FabricJob:
         return cls(
             part=PartSpec(
                 mesh=MeshSpec(**part["mesh"]),
-                regions=tuple(RegionSpec(**r) for r in part["regions"]),
+                regions=tuple(
+                    RegionSpec(**{**r, "members": tuple(r["members"])}) for r in part["regions"]
+                ),
                 boundaries=boundaries,
                 probes={k: tuple(v) for k, v in part["probes"].items()},
             ),
-            materials=tuple(RegionMaterial(**m) for m in data["materials"]),
+            materials=tuple(
+                RegionMaterial(
+                    **{**m, "family": tuple(map(tuple, m["family"])) if m["family"] else None}
+                )
+                for m in data["materials"]
+            ),
             steps=data["steps"],
             element_degree=data["element_degree"],
         )

@@ -43,12 +43,15 @@ class KnitSurfaces(NamedTuple):
         scene_knit: whether a region uses the scene's [fabric] knit (its surface stage runs).
         others: label -> Fabric of every other knit that occurs (one surface stage each).
         region_knits: per region, the label of its knit ("" for the scene's knit), or None
-            for a region with its own surface file or SVK constants.
+            for a region with its own surface file or SVK constants, or a graded region.
+        region_families: per region, ((stitch, label), ...) of a graded region's members,
+            else None.
     """
 
     scene_knit: bool
     others: dict[str, Fabric]
     region_knits: tuple[str | None, ...]
+    region_families: tuple[tuple[tuple[float, str], ...] | None, ...]
 
 
 def knit_surfaces(plan: RunPlan) -> KnitSurfaces:
@@ -56,21 +59,33 @@ def knit_surfaces(plan: RunPlan) -> KnitSurfaces:
     fabric_table = dataclasses.asdict(plan.scene.fabric)
     others: dict[str, Fabric] = {}
     labels: list[str | None] = []
-    for region in plan.scene.part.regions:
-        if region.surface is not None or region.svk is not None:
-            labels.append(None)
-            continue
-        arguments = region_knit(fabric_table, region)
+    families: list[tuple[tuple[float, str], ...] | None] = []
+
+    def label_of(arguments: dict) -> str:
         fabric = make_fabric(**arguments)
         if fabric == plan.fabric:
-            labels.append("")
-            continue
+            return ""
         label = next((k for k, v in others.items() if v == fabric), None)
         if label is None:
             label = _label(arguments, len(others))
             others[label] = fabric
-        labels.append(label)
-    return KnitSurfaces("" in labels, others, tuple(labels))
+        return label
+
+    for region in plan.scene.part.regions:
+        arguments = region_knit(fabric_table, region)
+        if region.graded_stitch is not None:
+            labels.append(None)
+            families.append(
+                tuple((s, label_of({**arguments, "stitch": s})) for s in region.members)
+            )
+        elif region.surface is not None or region.svk is not None:
+            labels.append(None)
+            families.append(None)
+        else:
+            labels.append(label_of(arguments))
+            families.append(None)
+    used = set(labels) | {label for family in families if family for _, label in family}
+    return KnitSurfaces("" in used, others, tuple(labels), tuple(families))
 
 
 def _label(arguments: dict, count: int) -> str:
@@ -95,15 +110,24 @@ def fabric_job(plan: RunPlan, knits: KnitSurfaces, folder: Path) -> FabricJob:
     """The job of the part: each region's material from the surfaces in `folder`."""
     scene = plan.scene
     materials = []
-    for region, label in zip(scene.part.regions, knits.region_knits, strict=True):
-        if region.surface is not None:
+
+    def surface_path(label: str) -> str:
+        path = folder / SURFACE_FILE if label == "" else folder / "knits" / label / SURFACE_FILE
+        return str(path.resolve())
+
+    for region, label, family in zip(
+        scene.part.regions, knits.region_knits, knits.region_families, strict=True
+    ):
+        if family is not None:
+            members = tuple((stitch, surface_path(name)) for stitch, name in family)
+            materials.append(RegionMaterial(stitch=region.graded_stitch, family=members))
+        elif region.surface is not None:
             materials.append(RegionMaterial(surface=region.surface))
         elif region.svk is not None:
             materials.append(RegionMaterial(svk=region.svk))
         else:
-            path = folder / SURFACE_FILE if label == "" else folder / "knits" / label / SURFACE_FILE
             fabric = plan.fabric if label == "" else knits.others[label]
-            materials.append(RegionMaterial(surface=str(path.resolve()), stitch=_stitch(fabric)))
+            materials.append(RegionMaterial(surface=surface_path(label), stitch=_stitch(fabric)))
     return FabricJob(
         part=scene.part,
         materials=tuple(materials),
@@ -124,6 +148,7 @@ def fabric_stage(job: FabricJob, ranks: int) -> Stage:
             "surface_sha256": file_digest(Path(m.surface)) if m.surface else None,
             "svk": m.svk,
             "stitch": m.stitch,
+            "family": [(s, file_digest(Path(path))) for s, path in m.family or ()],
         }
         for m in job.materials
     ]

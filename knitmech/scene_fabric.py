@@ -39,10 +39,11 @@ from fabric_dolfinx.part_spec import (
     BoundaryCondition,
     MeshSpec,
     gmsh_names,
+    shape_points,
     shape_size,
 )
 from rve_rod.errors import InputError
-from rve_rod.presets import load_preset, make_fabric
+from rve_rod.presets import load_preset, make_fabric, stitch_values
 
 __all__ = [
     "KNIT_KEYS",
@@ -80,6 +81,10 @@ class RegionSpec:
         knit: knit values overriding the [fabric] knit (KNIT_KEYS).
         surface: a response-surface file to use as it is (absolute path), or None.
         svk: orthotropic SVK constants (N/mm) instead of a knit (verification), or None.
+        graded_stitch: a stitch value varying over the region (an expression of x, y, mm),
+            or None; its law interpolates the surfaces at `members` (`fabric_dolfinx.graded`).
+        members: the preset's stitch values a graded region needs (those bracketing its
+            range), increasing.
     """
 
     name: str
@@ -88,6 +93,8 @@ class RegionSpec:
     knit: dict[str, Any] = field(default_factory=dict)
     surface: str | None = None
     svk: dict[str, float] | None = None
+    graded_stitch: str | None = None
+    members: tuple[float, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -152,8 +159,14 @@ def read_part(
     names = [r.name for r in region_specs]
     for name in sorted({n for n in names if names.count(n) > 1}):
         problems.append(f"region: the name {name!r} is given twice")
+    region_specs = tuple(
+        _graded_members(index, region, fabric_table, spec, problems)
+        if region.graded_stitch is not None
+        else region
+        for index, region in enumerate(region_specs)
+    )
     for index, region in enumerate(region_specs):
-        if region.knit and None not in region.knit.values():
+        if region.graded_stitch is None and region.knit and None not in region.knit.values():
             try:
                 make_fabric(**region_knit(fabric_table, region))
             except (InputError, TypeError) as error:
@@ -209,6 +222,36 @@ def _read_probes(value, problems: list[str]) -> dict[str, tuple[float, float]]:
         if len(point) == 2:
             probes[name] = (point[0], point[1])
     return probes
+
+
+def _graded_members(
+    index: int, region: RegionSpec, fabric: dict, spec: MeshSpec | None, problems: list[str]
+) -> RegionSpec:
+    """The region with the preset stitch values its graded stitch needs; problems when the
+    preset has no family or the stitch leaves it (checked on points of a built-in shape)."""
+    key = f"region[{index}].stitch"
+    preset = region.knit.get("preset", fabric.get("preset"))
+    values = stitch_values(preset) if isinstance(preset, str) else []
+    if len(values) < 2:
+        problems.append(f"{key}: a graded stitch needs a preset measured at several stitch values")
+        return region
+    values = sorted(float(v) for v in values)
+    if spec is None or spec.shape is None:
+        return replace(region, members=tuple(values))  # a mesh file: the whole family
+    points = shape_points(spec)
+    if region.where is not None:
+        points = points[FieldExpression(region.where)(points[:, 0], points[:, 1]) != 0.0]
+    stitch = FieldExpression(region.graded_stitch, key)(points[:, 0], points[:, 1])
+    low, high = float(stitch.min()), float(stitch.max())
+    if low < values[0] - 1e-9 or high > values[-1] + 1e-9:
+        problems.append(
+            f"{key}: {low:.4g} ... {high:.4g} mm over the region leaves the family's range "
+            f"[{values[0]:g}, {values[-1]:g}] mm of {preset}"
+        )
+        return region
+    first = max(i for i, v in enumerate(values) if v <= low + 1e-9)
+    last = min(i for i, v in enumerate(values) if v >= high - 1e-9)
+    return replace(region, members=tuple(values[first : last + 1]))
 
 
 def region_knit(fabric: dict, region: RegionSpec) -> dict[str, Any]:
@@ -336,9 +379,12 @@ def _read_region(index: int, table: dict, problems: list[str], base: Path | None
         problems.append(f"{prefix}.angle: {angle!r} is not a number in [-360, 360] degrees")
         angle = 0.0
     knit = {key: table[key] for key in KNIT_KEYS if key in table}
+    graded = None
+    if isinstance(knit.get("stitch"), str):
+        graded = _expression(f"{prefix}.stitch", knit.pop("stitch"), problems)
     surface, svk = table.get("surface"), table.get("svk")
     given = [key for key, value in (("surface", surface), ("svk", svk)) if value is not None]
-    if knit:
+    if knit or graded is not None:
         given.append("knit values")
     if len(given) > 1:
         problems.append(f"{prefix}: give one of {', '.join(given)}, not several")
@@ -349,7 +395,7 @@ def _read_region(index: int, table: dict, problems: list[str], base: Path | None
         surface = str(path)
     if svk is not None:
         svk = _read_svk(prefix, svk, problems)
-    if "preset" in knit:
+    if "preset" in knit and graded is None:
         try:
             load_preset(knit["preset"], knit.get("stitch"))
         except InputError as error:
@@ -360,9 +406,8 @@ def _read_region(index: int, table: dict, problems: list[str], base: Path | None
                 f"{prefix}.{key}", knit[key], problems, low=-1.0 if key == "poissons_ratio" else 0.0
             )
             knit[key] = value
-    return RegionSpec(
-        name, where, float(angle) if not isinstance(angle, str) else angle, knit, surface, svk
-    )
+    angle = float(angle) if not isinstance(angle, str) else angle
+    return RegionSpec(name, where, angle, knit, surface, svk, graded)
 
 
 def _read_svk(prefix: str, table, problems: list[str]) -> dict[str, float] | None:
@@ -492,6 +537,8 @@ def part_toml(part: PartSpec) -> str:
             if value is not None:
                 lines.append(f"{key} = {toml_value(value)}")
         lines += [f"{k} = {toml_value(v)}" for k, v in region.knit.items()]
+        if region.graded_stitch is not None:
+            lines.append(f"stitch = {toml_value(region.graded_stitch)}")
         if region.svk is not None:
             items = ", ".join(f"{k} = {v!r}" for k, v in region.svk.items())
             lines.append(f"svk = {{{items}}}")

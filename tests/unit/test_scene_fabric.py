@@ -168,3 +168,33 @@ def test_the_command_line_exits_2_on_a_bad_part_and_writes_nothing(tmp_path, cap
     error = capsys.readouterr().err
     assert "boundary[0].name: disc has no boundary 'left'; its boundaries: rim" in error
     assert not output.exists()
+
+
+def test_a_graded_stitch_plans_only_the_members_its_range_needs():
+    region = {"name": "fabric", "stitch": "5.2 + 0.5 * y / 200"}
+    scene = scene_with(region=[region])
+    (graded,) = scene.part.regions
+    assert graded.graded_stitch == region["stitch"] and graded.members == (5.0, 5.5, 6.0)
+    knits = knit_surfaces(plan_run(scene, fidelity_level("fast")))
+    assert knits.scene_knit and list(knits.others) == [
+        "cotton-20s2_stitch-5",
+        "cotton-20s2_stitch-6",
+    ]
+    assert knits.region_families == (
+        ((5.0, "cotton-20s2_stitch-5"), (5.5, ""), (6.0, "cotton-20s2_stitch-6")),
+    )
+    assert knits.region_knits == (None,)
+    resolved = scene.resolved(fidelity_level("fast"))
+    assert scene_from_dict(tomllib.loads(resolved.to_toml())) == resolved
+
+
+def test_a_graded_stitch_outside_the_family_or_with_svk_is_refused():
+    wide = [{"name": "fabric", "stitch": "4.0 + 3.5 * y / 200"}]
+    assert problems_of({**BASE, "region": wide}) == [
+        "region[0].stitch: 4 ... 7.5 mm over the region leaves the family's range [4.5, 7] mm "
+        "of cotton-20s2"
+    ]
+    mixed = [{"name": "fabric", "stitch": "5.5 + 0 * x", "svk": {"course_stiffness": 1.0}}]
+    assert problems_of({**BASE, "region": mixed}) == [
+        "region[0]: give one of svk, knit values, not several"
+    ]

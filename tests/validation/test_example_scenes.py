@@ -13,6 +13,8 @@ one physical number against an expectation computed another way.
 * cruciform (SVK variant with equal course and wale moduli): the course-wise arm force equals
   the wale-wise one (the cross and the load are symmetric under x <-> y) and the four arm
   forces are in equilibrium.
+* graded strip (variant with a constant stitch of 5.5, the shipped surface's: one member):
+  equals the same strip with the plain knit to round-off.
 * plate with a hole (isotropic SVK variant without Poisson contraction, small strain): far
   from the hole the stress is the nominal force per width (Saint-Venant); beside the hole it
   is raised (at most the Kirsch factor 3 times the finite-width factor of Heywood).
@@ -164,3 +166,24 @@ def test_plate_with_hole_far_field_stress_is_the_nominal_stress(tmp_path, cache)
     assert far == pytest.approx(nominal, rel=0.02)
     heywood = 2.0 + (1.0 - 10.0 / 50.0) ** 3  # net-section factor, hole diameter / width
     assert 1.5 * nominal < beside < heywood / (1.0 - 10.0 / 50.0) * nominal
+
+
+@pytest.mark.slow
+def test_graded_strip_with_a_constant_stitch_equals_the_plain_knit(tmp_path, cache):
+    def constant(data):
+        data["region"][0]["stitch"] = "5.5 + 0 * x"
+
+    def plain(data):
+        del data["region"]
+
+    graded, result = run_example("graded_strip", tmp_path / "graded", cache, constant)
+    uniform, _ = run_example("graded_strip", tmp_path / "plain", cache, plain)
+    assert result.plan.scene.part.regions[0].members == (5.5,)
+    for name in ("top", "bottom"):
+        np.testing.assert_allclose(
+            graded["boundaries"][name]["force"],
+            uniform["boundaries"][name]["force"],
+            rtol=1e-12,
+            atol=1e-12,
+        )
+    assert graded["boundaries"]["top"]["force"][-1][1] > 0.1
