@@ -30,6 +30,7 @@ class StrainRangeCheck:
         mesh: the mesh it lives on.
         domain: (3, 2) [min, max] of E11, E22, E12.
         quadrature_degree: degree of the Gauss rule of the forms (same points).
+        cells: local cells to check (a region's); default all owned cells.
 
     Attributes:
         warned: whether the warning was issued (at most once per instance).
@@ -42,13 +43,17 @@ class StrainRangeCheck:
         mesh,
         domain: np.ndarray,
         quadrature_degree: int,
+        cells: np.ndarray | None = None,
     ):
         points, _ = basix.make_quadrature(basix.CellType.quadrilateral, quadrature_degree)
         components = ufl.as_vector(
             [material_strain[0, 0], material_strain[1, 1], material_strain[0, 1]]
         )
         self._expression = fem.Expression(components, points)
-        self._cells = np.arange(mesh.topology.index_map(2).size_local, dtype=np.int32)
+        owned = mesh.topology.index_map(2).size_local
+        if cells is None:
+            cells = np.arange(owned, dtype=np.int32)
+        self._cells = np.asarray(cells, dtype=np.int32)[np.asarray(cells) < owned]
         self._comm = mesh.comm
         self.domain = np.asarray(domain, dtype=float)
         self.warned = False

@@ -82,7 +82,11 @@ def membrane_stress(u: ufl.Coefficient, law: StressLaw, angle=0.0) -> MembraneSt
 
 
 def membrane_forms(
-    u: ufl.Coefficient, law: StressLaw, angle=0.0, quadrature_degree: int | None = None
+    u: ufl.Coefficient,
+    law: StressLaw,
+    angle=0.0,
+    quadrature_degree: int | None = None,
+    measure: ufl.Measure | None = None,
 ) -> MembraneForms:
     """Residual int P : grad v dX and its consistent Jacobian for the displacement `u`.
 
@@ -97,11 +101,18 @@ def membrane_forms(
     Args:
         quadrature_degree: Gauss rule per direction exact to this degree; default twice the
             element degree (2 x 2 points for Q1, 3 x 3 for Q2).
+        measure: the cell measure to integrate over, e.g. `dx(region)` of a cell-tagged
+            mesh (several regions, one law each: sum their forms); default the whole mesh.
+            Its metadata is replaced by the quadrature degree.
     """
     space = u.function_space
     if quadrature_degree is None:
         quadrature_degree = 2 * space.ufl_element().degree()
-    dx = ufl.dx(domain=space.mesh, metadata={"quadrature_degree": quadrature_degree})
+    metadata = {"quadrature_degree": quadrature_degree}
+    if measure is None:
+        dx = ufl.dx(domain=space.mesh, metadata=metadata)
+    else:
+        dx = measure.reconstruct(metadata=metadata)
     v = ufl.TestFunction(space)
     du = ufl.TrialFunction(space)
     F = deformation_gradient(u)

@@ -8,7 +8,7 @@ rank 0 only; `dolfinx.io.gmshio.model_to_mesh` partitions the mesh over the comm
 Lengths are mm.
 """
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import NamedTuple
 
@@ -22,7 +22,9 @@ from rve_rod.errors import InputError, check_integer, check_positive
 
 __all__ = [
     "MESH_DIRECTORY",
+    "QUADRILATERAL_TYPES",
     "TaggedMesh",
+    "mesh_gmsh_model",
     "plate_with_hole",
     "read_geo",
     "rectangle_patch",
@@ -33,23 +35,37 @@ MESH_DIRECTORY = Path(__file__).resolve().parents[1] / "meshes"
 
 
 class TaggedMesh(NamedTuple):
-    """A distributed mesh with its boundary facets tagged by gmsh physical groups.
+    """A distributed mesh with its boundary facets and its cells tagged by gmsh physical groups.
 
     Attributes:
         mesh: the DOLFINx mesh (gdim 2, quadrilaterals, mm).
         facet_tags: facet markers (the physical-group numbers of the .geo file).
-        boundaries: physical-group name -> facet marker, e.g. {"left": 4, "right": 2}.
+        boundaries: physical-curve name -> facet marker, e.g. {"left": 4, "right": 2}.
+        cell_tags: cell markers (the physical-surface numbers).
+        regions: physical-surface name -> cell marker, e.g. {"fabric": 10}.
     """
 
     mesh: dolfinx.mesh.Mesh
     facet_tags: dolfinx.mesh.MeshTagsMetaClass
     boundaries: dict[str, int]
+    cell_tags: dolfinx.mesh.MeshTagsMetaClass | None = None
+    regions: dict[str, int] | None = None
 
     def facets(self, name: str) -> np.ndarray:
         """Local indices of the facets on boundary `name` (InputError if there is none)."""
         if name not in self.boundaries:
             raise InputError(f"boundary {name!r} is not tagged; tagged: {sorted(self.boundaries)}")
         return self.facet_tags.find(self.boundaries[name])
+
+    def cells(self, name: str) -> np.ndarray:
+        """Local indices (owned and ghost) of the cells of region `name` (InputError if none)."""
+        if name not in (self.regions or {}):
+            raise InputError(f"region {name!r} is not tagged; tagged: {sorted(self.regions or {})}")
+        return self.cell_tags.find(self.regions[name])
+
+
+QUADRILATERAL_TYPES = {3: "4-node quadrilateral"}
+"""gmsh element types accepted for the fabric's cells."""
 
 
 def read_geo(
@@ -58,19 +74,45 @@ def read_geo(
     parameters: Mapping[str, float] | None = None,
     refinements: int = 0,
 ) -> TaggedMesh:
-    """Mesh a gmsh `.geo` file on rank 0 and distribute it over `comm`.
+    """Mesh a gmsh `.geo` file (or read a `.msh` file) on rank 0 and distribute it over `comm`.
 
     Args:
-        path: the geometry; its physical curves become the facet tags, named as in the file.
+        path: the geometry; its physical curves become the facet tags and its physical
+            surfaces the cell tags, named as in the file.
         parameters: values for the file's `DefineConstant` parameters (gmsh `-setnumber`).
         refinements: uniform refinements after meshing (each quad split into four; new
             boundary nodes are placed on the geometry, so curved boundaries converge).
     """
     path = Path(path)
-    check_integer("refinements", refinements, 0, 6)
     if not path.is_file():
         raise InputError(f"gmsh geometry file {path} does not exist")
-    boundaries = None
+    if path.suffix not in (".geo", ".msh"):
+        raise InputError(f"gmsh file {path}: the name must end in .geo or .msh")
+
+    def build() -> None:
+        gmsh.open(str(path))
+        if path.suffix == ".geo":
+            gmsh.model.mesh.generate(2)
+
+    return mesh_gmsh_model(build, comm, parameters, refinements, source=str(path))
+
+
+def mesh_gmsh_model(
+    build: Callable[[], None],
+    comm: MPI.Comm = MPI.COMM_WORLD,
+    parameters: Mapping[str, float] | None = None,
+    refinements: int = 0,
+    source: str = "gmsh model",
+) -> TaggedMesh:
+    """Run `build` on rank 0 inside an initialized gmsh (it must leave a 2D mesh in the
+    current model), refine, check and distribute the mesh over `comm`.
+
+    Raises InputError (on every rank) when the mesh has cells other than 4-node
+    quadrilaterals, no physical surface, or a curve (surface) in two physical curves
+    (surfaces).
+    """
+    check_integer("refinements", refinements, 0, 6)
+    groups = None
     if comm.rank == 0:
         arguments = ["fabric_dolfinx"]
         for name, value in (parameters or {}).items():
@@ -79,22 +121,66 @@ def read_geo(
     try:
         if comm.rank == 0:
             gmsh.option.setNumber("General.Terminal", 0)
-            gmsh.open(str(path))
-            gmsh.model.mesh.generate(2)
-            for _ in range(refinements):
-                gmsh.model.mesh.refine()
-            boundaries = {
-                gmsh.model.getPhysicalName(1, tag): tag
-                for _, tag in gmsh.model.getPhysicalGroups(1)
-            }
-        boundaries = comm.bcast(boundaries, root=0)
-        mesh, _, facet_tags = dolfinx.io.gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
+            try:
+                build()
+                for _ in range(refinements):
+                    gmsh.model.mesh.refine()
+                groups = _physical_groups(source)
+            except Exception as error:  # gmsh raises plain Exceptions
+                groups = (
+                    error
+                    if isinstance(error, InputError)
+                    else InputError(f"{source}: gmsh failed ({error})")
+                )
+        groups = comm.bcast(groups, root=0)
+        if isinstance(groups, InputError):
+            raise groups
+        mesh, cell_tags, facet_tags = dolfinx.io.gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
     finally:
         if comm.rank == 0:
             gmsh.finalize()
     if mesh.topology.cell_type != dolfinx.mesh.CellType.quadrilateral:
-        raise InputError(f"{path} did not give a quadrilateral mesh")
-    return TaggedMesh(mesh=mesh, facet_tags=facet_tags, boundaries=boundaries)
+        raise InputError(f"{source} did not give a quadrilateral mesh")
+    boundaries, regions = groups
+    return TaggedMesh(mesh, facet_tags, boundaries, cell_tags, regions)
+
+
+def _physical_groups(source: str) -> tuple[dict[str, int], dict[str, int]]:
+    """(curve name -> tag, surface name -> tag) of the current gmsh model, after checking its
+    2D elements (rank 0 only)."""
+    types = set(gmsh.model.mesh.getElementTypes(2))
+    if not types:
+        raise InputError(f"{source}: the mesh has no 2D elements")
+    others = sorted(int(t) for t in types - set(QUADRILATERAL_TYPES))
+    if others:
+        names = ", ".join(gmsh.model.mesh.getElementProperties(t)[0] for t in others)
+        raise InputError(
+            f"{source}: the mesh has {names} elements; only 4-node quadrilaterals are "
+            "supported (recombine the mesh: Recombine Surface, Mesh.RecombineAll = 1)"
+        )
+    boundaries = {
+        gmsh.model.getPhysicalName(1, tag): tag for _, tag in gmsh.model.getPhysicalGroups(1)
+    }
+    regions = {
+        gmsh.model.getPhysicalName(2, tag): tag for _, tag in gmsh.model.getPhysicalGroups(2)
+    }
+    if not regions:
+        raise InputError(f"{source}: no physical surface (a region) is defined")
+    # a DOLFINx mesh tag holds one value per entity: overlapping groups would lose names
+    for dim, groups, kind in ((1, boundaries, "curves"), (2, regions, "surfaces")):
+        owner: dict[int, str] = {}
+        for name, tag in groups.items():
+            for entity in gmsh.model.getEntitiesForPhysicalGroup(dim, tag):
+                if entity in owner:
+                    raise InputError(
+                        f"{source}: {kind[:-1]} {entity} belongs to the physical {kind} "
+                        f"{owner[entity]!r} and {name!r}; they must not overlap"
+                    )
+                owner[entity] = name
+    unnamed = [n for n in (*boundaries, *regions) if not n]
+    if unnamed:
+        raise InputError(f"{source}: every physical group needs a name")
+    return boundaries, regions
 
 
 def rectangle_patch(

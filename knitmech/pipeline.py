@@ -23,6 +23,13 @@ import time
 from pathlib import Path
 from typing import NamedTuple, TextIO
 
+from knitmech.fabric_stages import (
+    fabric_job,
+    fabric_stage,
+    fabric_table,
+    in_subfolder,
+    knit_surfaces,
+)
 from knitmech.fidelity import fidelity_level
 from knitmech.records import GeometrySummary, MesoSummary, PatchSummary, SurfaceSummary
 from knitmech.report import (
@@ -176,18 +183,33 @@ def run_scene(
         keys = ", ".join(f"fabric.{k}" for k in ("wale_width", "course_height", "yarn_radius"))
         raise SceneError(repr(plan.scene.name), [f"{keys}: {error}"]) from None
     meso = {stage.item: MesoSummary.from_json(run(stage)) for stage in meso_stages(plan)}
-    if plan.scene.surface.path is None:
-        runs = SurfaceRuns(ResultCache(cache_dir / "rve-runs"), choice, progress)
-        surface = SurfaceSummary.from_json(run(surface_stage(plan, runs)))
+    part = plan.scene.part
+    knits = knit_surfaces(plan) if part is not None else None
+    surface = None
+    if knits is None or knits.scene_knit:
+        if plan.scene.surface.path is None:
+            runs = SurfaceRuns(ResultCache(cache_dir / "rve-runs"), choice, progress)
+            surface = SurfaceSummary.from_json(run(surface_stage(plan, runs)))
+        else:
+            begun = time.perf_counter()
+            surface = given_surface(Path(plan.scene.surface.path), folder)
+            files = (SURFACE_FILE, SURFACE_FIGURE)
+            records.append(
+                StageRecord("surface", "", GIVEN, time.perf_counter() - begun, "", files)
+            )
+    macro, fabric, knit_summaries = {}, None, {}
+    if part is None:
+        macro = {
+            stage.item: PatchSummary.from_json(run(stage))
+            for stage in macro_stages(plan, folder / SURFACE_FILE)
+        }
     else:
-        begun = time.perf_counter()
-        surface = given_surface(Path(plan.scene.surface.path), folder)
-        files = (SURFACE_FILE, SURFACE_FIGURE)
-        records.append(StageRecord("surface", "", GIVEN, time.perf_counter() - begun, "", files))
-    macro = {
-        stage.item: PatchSummary.from_json(run(stage))
-        for stage in macro_stages(plan, folder / SURFACE_FILE)
-    }
+        runs = SurfaceRuns(ResultCache(cache_dir / "rve-runs"), choice, progress)
+        for label, knit in knits.others.items():
+            stage = in_subfolder(surface_stage(plan._replace(fabric=knit), runs), label)
+            knit_summaries[label] = run(stage)
+        job = fabric_job(plan, knits, folder)
+        fabric = run(fabric_stage(job, plan.scene.macro.ranks))
 
     report_started = time.perf_counter()
     records = tuple(records)
@@ -199,12 +221,15 @@ def run_scene(
         "fabric": dataclasses.asdict(plan.fabric),
         "geometry": geometry.to_json(),
         "meso": {name: record.to_json() for name, record in meso.items()},
-        "surface": surface.to_json(),
+        "surface": surface.to_json() if surface is not None else {},
         "macro": {name: record.to_json() for name, record in macro.items()},
         "forces": compare_forces(meso, macro),
         "poisson_ratios": poisson_ratios(meso, macro),
         "stages": [dataclasses.asdict(record) for record in records],
     }
+    if part is not None:
+        summary["knits"] = knit_summaries
+        summary["part"] = fabric
     written = [SUMMARY_FILE, "summary.txt", "scene.toml"]
     (folder / "scene.toml").write_text(
         f"# the scene as run (fidelity {plan.fidelity.name} filled in), knitmech {__version__}\n"
@@ -221,6 +246,8 @@ def run_scene(
     summary["files"] = sorted({name for r in records for name in r.files} | set(written))
     summary = to_jsonable(summary)
     table = summary_table(summary)
+    if fabric is not None:
+        table += "\n" + fabric_table(fabric)
     (folder / "summary.txt").write_text(table + "\n")
     (folder / SUMMARY_FILE).write_text(json.dumps(summary, indent=1, allow_nan=False))
     return PipelineResult(plan, folder, summary, records, table)

@@ -35,7 +35,7 @@ POISSON_STRAINS = (0.10, 0.20)
 POISSON_NAMES = {"course": "nu12", "wale": "nu21"}
 """nu12 = -eps22/eps11 under course-wise load, nu21 = -eps11/eps22 under wale-wise load."""
 
-STAGES = ("geometry", "meso", "surface", "macro")
+STAGES = ("geometry", "meso", "surface", "macro", "fabric")
 
 
 def value_at(strain: Sequence[float], values: Sequence[float | None], target: float):
@@ -131,8 +131,11 @@ def summary_table(summary: dict) -> str:
             "  meso: RVE uniaxial; surface: the fitted material alone in uniaxial tension; "
             "macro: clamped patch; diff: macro vs meso"
         )
-    lines += ["", f"{'Poisson ratio':<16}{'meso':>8}{'macro':>8}"]
-    for name, entry in summary["poisson_ratios"].items():
+    ratios = summary["poisson_ratios"]
+    known = any(v is not None for e in ratios.values() for k in ("meso", "macro") for v in e[k])
+    if known:
+        lines += ["", f"{'Poisson ratio':<16}{'meso':>8}{'macro':>8}"]
+    for name, entry in ratios.items() if known else ():
         for index, target in enumerate(entry["strain"]):
             label = f"{name} at {100 * target:.0f} %"
             lines.append(

@@ -7,7 +7,6 @@ Settings left out of a scene come from its fidelity level (`knitmech.fidelity`);
 describes the format.
 """
 
-import json
 import math
 import tomllib
 from dataclasses import asdict, dataclass, field, fields, replace
@@ -16,6 +15,8 @@ from pathlib import Path
 from typing import Any
 
 from knitmech.fidelity import DEFAULT, LEVELS, Fidelity
+from knitmech.scene_fabric import PartSpec, part_toml, read_part
+from knitmech.scene_fabric import toml_value as _toml_value
 from rve_rod import limits
 from rve_rod.errors import InputError
 from rve_rod.presets import Fabric, load_preset, make_fabric
@@ -154,6 +155,9 @@ class Scene:
     meso: MesoSpec = field(default_factory=MesoSpec)
     surface: SurfaceSpec = field(default_factory=SurfaceSpec)
     macro: MacroSpec = field(default_factory=MacroSpec)
+    part: PartSpec | None = None
+    """The fabric part ([fabric.shape] or [fabric.mesh], [[region]], [[boundary]];
+    `knitmech.scene_fabric`); None: the patch tension tests of [macro]."""
 
     def to_dict(self) -> dict[str, Any]:
         """The scene as plain data (lists for tuples, no None), for TOML/JSON records."""
@@ -166,6 +170,8 @@ class Scene:
         for section in ("fabric", "meso", "surface", "macro"):
             lines += ["", f"[{section}]"]
             lines += [f"{key} = {_toml_value(value)}" for key, value in data[section].items()]
+        if self.part is not None:
+            lines += ["", part_toml(self.part).rstrip()]
         return "\n".join(lines) + "\n"
 
     def resolved(self, level: Fidelity) -> "Scene":
@@ -180,6 +186,7 @@ class Scene:
             meso=fill(self.meso, steps=level.meso_steps, control_points=level.control_points),
             surface=fill(self.surface, rays=level.rays),
             macro=fill(self.macro, elements=level.elements, steps=level.macro_steps),
+            part=self.part.resolved(level.elements) if self.part is not None else None,
         )
 
     def fabric_model(self) -> Fabric:
@@ -220,11 +227,21 @@ def scene_from_dict(data: dict, source: str = "<dict>", base: Path | None = None
     problems: list[str] = []
     sections = {"fabric": FabricSpec, "meso": MesoSpec, "surface": SurfaceSpec, "macro": MacroSpec}
     top: dict[str, Any] = {}
+    fabric_table = data.get("fabric", {})
+    if isinstance(fabric_table, dict):
+        fabric_table = dict(fabric_table)
+        data = {**data, "fabric": fabric_table}
+        part = read_part(data, fabric_table, problems, base)
+    else:
+        part = None
     for key, value in data.items():
-        if key in sections:
+        if key in sections or key in ("region", "boundary", "probe"):
             continue
         if key not in ("name", "fidelity"):
-            problems.append(f"{key}: unknown key (valid: name, fidelity, {', '.join(sections)})")
+            problems.append(
+                f"{key}: unknown key (valid: name, fidelity, {', '.join(sections)}, region, "
+                "boundary, probe)"
+            )
             continue
         top[key] = value
     if not isinstance(top.get("name", ""), str):
@@ -253,6 +270,7 @@ def scene_from_dict(data: dict, source: str = "<dict>", base: Path | None = None
         meso=parts["meso"],
         surface=surface,
         macro=parts["macro"],
+        part=part,
     )
 
 
@@ -375,14 +393,6 @@ def _check_values(parts: dict, problems: list[str], base: Path | None) -> None:
     for key, value, (low, high) in counts:
         if value is not None and not low <= value <= high:
             problems.append(f"{key}: {value} is outside the valid range [{low}, {high}]")
-
-
-def _toml_value(value: Any) -> str:
-    if isinstance(value, list):
-        return "[" + ", ".join(_toml_value(item) for item in value) + "]"
-    if isinstance(value, str):
-        return json.dumps(value)  # a TOML basic string uses the same escapes
-    return repr(value)
 
 
 def _describe(value: Any) -> str:

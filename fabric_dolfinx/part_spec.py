@@ -1,0 +1,179 @@
+"""The specification of a fabric part, without DOLFINx (the pipeline plans and checks with it).
+
+`MeshSpec`: a built-in shape with its dimensions or a gmsh file (`fabric_dolfinx.shapes`
+meshes it); `BoundaryCondition`: what holds or loads one named boundary
+(`fabric_dolfinx.boundary` applies it).
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from rve_rod.errors import InputError, check_integer, check_positive
+
+__all__ = [
+    "BOUNDARY_KINDS",
+    "COMPONENTS",
+    "SHAPES",
+    "SHAPE_DIMENSIONS",
+    "BoundaryCondition",
+    "MeshSpec",
+    "gmsh_names",
+    "shape_points",
+    "shape_size",
+]
+
+SHAPES = ("rectangle", "patch", "cruciform", "plate_with_hole", "disc")
+"""Names of the built-in shapes."""
+
+SHAPE_DIMENSIONS = {
+    "rectangle": {"width": 50.0, "height": 50.0},
+    "patch": {},
+    "cruciform": {"width": 50.0, "arm_length": 50.0},
+    "plate_with_hole": {"width": 50.0, "height": 50.0, "radius": 10.0},
+    "disc": {"radius": 25.0},
+}
+"""Shape -> its dimensions (mm) with their defaults."""
+
+
+@dataclass(frozen=True)
+class MeshSpec:
+    """A fabric mesh: a built-in shape with its dimensions, or a gmsh file.
+
+    Attributes:
+        shape: one of SHAPES, or None when `file` is given.
+        dimensions: the shape's dimensions (mm), see SHAPE_DIMENSIONS; missing ones take
+            the defaults.
+        file: a gmsh `.geo` (meshed here) or `.msh` file (used as it is).
+        parameters: values of the `.geo` file's DefineConstant parameters.
+        element_size: target quadrilateral edge (mm) of a built-in shape (and the `size`
+            parameter of plate_with_hole); None: shape_size / 10.
+        refinements: uniform refinements after meshing (each quad split into four).
+    """
+
+    shape: str | None = "patch"
+    dimensions: dict[str, float] = field(default_factory=dict)
+    file: str | None = None
+    parameters: dict[str, float] = field(default_factory=dict)
+    element_size: float | None = None
+    refinements: int = 0
+
+    def __post_init__(self):
+        if (self.shape is None) == (self.file is None):
+            raise InputError("a mesh needs exactly one of shape and file")
+        if self.shape is not None:
+            if self.shape not in SHAPES:
+                raise InputError(f"shape={self.shape!r} is not one of {', '.join(SHAPES)}")
+            valid = SHAPE_DIMENSIONS[self.shape]
+            for key, value in self.dimensions.items():
+                if key not in valid:
+                    names = ", ".join(valid) or "none"
+                    raise InputError(f"{key!r} is not a dimension of {self.shape} ({names})")
+                check_positive(key, value, "mm")
+        if self.element_size is not None:
+            check_positive("element_size", self.element_size, "mm")
+        check_integer("refinements", self.refinements, 0, 6)
+
+    def dimension(self, key: str) -> float:
+        """The dimension `key` (mm), given or default."""
+        if self.shape == "patch":
+            return 50.0
+        return float(self.dimensions.get(key, SHAPE_DIMENSIONS[self.shape][key]))
+
+
+def shape_size(spec: MeshSpec) -> float:
+    """The characteristic length of a built-in shape (mm): the smallest of its width, height
+    or diameter; the default element size is a tenth of it."""
+    if spec.shape in ("rectangle", "plate_with_hole"):
+        return min(spec.dimension("width"), spec.dimension("height"))
+    if spec.shape == "disc":
+        return 2.0 * spec.dimension("radius")
+    return spec.dimension("width") if spec.shape == "cruciform" else 50.0
+
+
+BOUNDARY_KINDS = ("clamp", "displacement", "roller", "traction", "free")
+COMPONENTS = {"x": 0, "y": 1}
+
+
+@dataclass(frozen=True)
+class BoundaryCondition:
+    """A condition on one named boundary (see the module docstring for the kinds).
+
+    Attributes:
+        name: a physical curve of the mesh.
+        kind: one of BOUNDARY_KINDS.
+        vector: (ux, uy) mm for `displacement`, (tx, ty) N/mm for `traction`, at t = 1.
+        component: "x" or "y", the component a `roller` holds.
+        value: the roller's displacement at t = 1 (mm).
+    """
+
+    name: str
+    kind: str = "clamp"
+    vector: tuple[float, float] = (0.0, 0.0)
+    component: str = "x"
+    value: float = 0.0
+
+    def __post_init__(self):
+        if self.kind not in BOUNDARY_KINDS:
+            raise InputError(
+                f"boundary {self.name!r}: kind={self.kind!r} is not one of "
+                f"{', '.join(BOUNDARY_KINDS)}"
+            )
+        if len(self.vector) != 2 or not all(np.isfinite(self.vector)):
+            raise InputError(f"boundary {self.name!r}: vector={self.vector!r} needs 2 numbers")
+        if self.component not in COMPONENTS:
+            raise InputError(f"boundary {self.name!r}: component={self.component!r} is not x or y")
+
+    @property
+    def dirichlet(self) -> bool:
+        return self.kind in ("clamp", "displacement", "roller")
+
+
+def gmsh_names(path, parameters=None) -> tuple[list[str], list[str]]:
+    """(physical curve names, physical surface names) of a gmsh `.geo` or `.msh` file, read
+    without meshing (InputError when gmsh cannot read it)."""
+    import gmsh  # noqa: PLC0415 (gmsh only for scenes with a mesh file)
+
+    arguments = ["fabric_dolfinx"]
+    for name, value in (parameters or {}).items():
+        arguments += ["-setnumber", name, repr(float(value))]
+    gmsh.initialize(arguments)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        try:
+            gmsh.open(str(path))
+        except Exception as error:  # gmsh raises plain Exceptions
+            raise InputError(f"gmsh cannot read {path}: {error}") from None
+        names = [
+            [gmsh.model.getPhysicalName(dim, tag) for _, tag in gmsh.model.getPhysicalGroups(dim)]
+            for dim in (1, 2)
+        ]
+    finally:
+        gmsh.finalize()
+    return names[0], names[1]
+
+
+def shape_points(spec: MeshSpec, count: int = 101) -> np.ndarray:
+    """(n, 2) points (mm) of a count x count grid over a built-in shape's bounding box that
+    lie in the shape (the hole of plate_with_hole included): for checking expressions of
+    x, y over the part before it is meshed."""
+    if spec.shape == "cruciform":
+        half = spec.dimension("width") / 2
+        end = half + spec.dimension("arm_length")
+        box = (-end, end, -end, end)
+    elif spec.shape == "disc":
+        radius = spec.dimension("radius")
+        box = (-radius, radius, -radius, radius)
+    elif spec.shape == "patch":
+        box = (0.0, 50.0, 0.0, 50.0)
+    else:
+        box = (0.0, spec.dimension("width"), 0.0, spec.dimension("height"))
+    x, y = np.meshgrid(np.linspace(*box[:2], count), np.linspace(*box[2:], count))
+    x, y = x.ravel(), y.ravel()
+    if spec.shape == "cruciform":
+        inside = (np.abs(x) <= half + 1e-9) | (np.abs(y) <= half + 1e-9)
+    elif spec.shape == "disc":
+        inside = x**2 + y**2 <= radius**2 * (1 + 1e-12)
+    else:
+        inside = np.ones(x.size, dtype=bool)
+    return np.column_stack([x[inside], y[inside]])
