@@ -1,0 +1,133 @@
+"""Literature loop shapes against the model's loop: the Poisson ratios (issue 14 experiment).
+
+Cotton 20s/2 at stitch 5.5 in uniaxial tension course- and wale-wise, 0-20 %, at the coarse
+settings of benchmarks/poisson_sensitivity.py (20 control points per quarter, 11 states). Each
+row builds the loop with one out-of-plane profile of `rve_rod.geometry.loop.OUT_OF_PLANE_PROFILES`
+("band" is the model; "parabolic" Crane's, "helical" Kurbak-like legs; same projection,
+symmetries and clearance rule, the depth and shoulder found as for the model), with the
+paper's friction or frictionless, and prints the loop (length against the measured 5.50 mm,
+depth), the force at 10 and 20 % (gf/cm), the Poisson ratio at 20 % and the lateral macro
+stress at 20 % split into the yarn force through the cut and the normal and friction loads of
+the contacts (gf/cm; they sum to zero). The table goes into docs/validation.md ("Literature
+loop shapes").
+
+    .venv/bin/python benchmarks/poisson_loop_shapes.py [--control-points 20] [--steps 11]
+        [--only PROFILE ...]
+
+About 2-4 s per run on a quiet machine (2 runs per row, 6 rows).
+"""
+
+import argparse
+import time
+
+import numpy as np
+
+from rve_rod.errors import ConvergenceError
+from rve_rod.geometry.loop import OUT_OF_PLANE_PROFILES, single_jersey_loop
+from rve_rod.presets import load_preset
+from rve_rod.rve.cell import CellSettings, LoopCell
+from rve_rod.rve.load_cases import load_case
+from rve_rod.rve.simulation import RveResult, RveSettings, run_cell
+from rve_rod.rve.yarn import YarnSettings, yarn_model
+from rve_rod.units import n_per_mm_to_gf_per_cm
+
+CASES = ("uniaxial-course", "uniaxial-wale")
+LATERAL_AXIS = {"uniaxial-course": 1, "uniaxial-wale": 0}
+"""The free normal component of each case: P22 course-wise, P11 wale-wise."""
+
+
+def run(
+    profile: str, friction: bool, case_name: str, control_points: int, steps: int
+) -> RveResult:
+    """One uniaxial run of cotton 20s/2 stitch 5.5 on the loop of `profile`."""
+    fabric = load_preset("cotton-20s2", 5.5)
+    knit = fabric.knit
+    loop = single_jersey_loop(
+        knit.wale_width, knit.course_height, fabric.yarn.minimal_radius, profile=profile
+    )
+    settings = RveSettings(
+        cell=CellSettings(control_points=control_points), yarn=YarnSettings(friction=friction)
+    )
+    cell = LoopCell(
+        list(loop.curves),
+        knit,
+        yarn_model(fabric, settings.yarn),
+        load_case(case_name, 0.2, steps),
+        settings.cell,
+    )
+    try:
+        return run_cell(cell, fabric, settings)
+    except ConvergenceError as error:
+        return error.history
+
+
+def at(result: RveResult, strain: float, name: str) -> float:
+    """Series `name` at the output state of `strain`, NaN if the run stopped before it."""
+    strains = result.series("strain")
+    hit = np.flatnonzero(np.isclose(strains, strain, atol=1e-9))
+    return float(result.series(name)[hit[0]]) if hit.size else float("nan")
+
+
+def ratio(result: RveResult) -> str:
+    """-lateral / axial strain at 20 %, or where the run stopped."""
+    if not result.steps:
+        return "no unloaded equilibrium"
+    if not result.complete:
+        return f"stopped at {100 * result.steps[-1].strain:.0f} %"
+    return f"{-at(result, 0.2, 'lateral_strain') / 0.2:.3f}"
+
+
+def lateral_split(result: RveResult, case_name: str) -> str:
+    """Cut / normal / friction parts of the lateral macro stress at the last state (gf/cm)."""
+    if not result.complete:
+        return "-"
+    a = LATERAL_AXIS[case_name]
+    parts = n_per_mm_to_gf_per_cm(result.steps[-1].stress_parts[:, a, a])
+    return " / ".join(f"{part:+.3g}" for part in parts)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--control-points", type=int, default=20)
+    parser.add_argument("--steps", type=int, default=11)
+    parser.add_argument("--only", nargs="*", choices=OUT_OF_PLANE_PROFILES)
+    args = parser.parse_args()
+    fabric = load_preset("cotton-20s2", 5.5)
+    knit = fabric.knit
+    print(
+        f"cotton 20s/2 stitch 5.5, {args.control_points} control points, {args.steps} states to"
+        f" 20 %; measured loop length {knit.measured_loop_length} mm; forces and the lateral"
+        " split (cut / normal / friction) at 20 % in gf/cm\n"
+    )
+    print(
+        "| profile | friction | loop length (dev.) | depth / r | course F 10 % | course F 20 % |"
+        " nu12 | P22 split | wale F 10 % | wale F 20 % | nu21 | P11 split | s |"
+    )
+    print("|---|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---|---:|")
+    for friction in (True, False):
+        for profile in args.only or OUT_OF_PLANE_PROFILES:
+            loop = single_jersey_loop(
+                knit.wale_width, knit.course_height, fabric.yarn.minimal_radius, profile=profile
+            )
+            started = time.perf_counter()
+            course, wale = (
+                run(profile, friction, case, args.control_points, args.steps) for case in CASES
+            )
+            seconds = time.perf_counter() - started
+            deviation = loop.loop_length / knit.measured_loop_length - 1
+            print(
+                f"| {profile} | {'mu = 0.15' if friction else 'none'}"
+                f" | {loop.loop_length:.3f} ({100 * deviation:+.1f} %)"
+                f" | {loop.depth / loop.yarn_radius:.2f}"
+                f" | {at(course, 0.1, 'force_gf_per_cm'):.4g}"
+                f" | {at(course, 0.2, 'force_gf_per_cm'):.4g} | {ratio(course)}"
+                f" | {lateral_split(course, CASES[0])}"
+                f" | {at(wale, 0.1, 'force_gf_per_cm'):.4g}"
+                f" | {at(wale, 0.2, 'force_gf_per_cm'):.4g} | {ratio(wale)}"
+                f" | {lateral_split(wale, CASES[1])} | {seconds:.0f} |",
+                flush=True,
+            )
+
+
+if __name__ == "__main__":
+    main()
