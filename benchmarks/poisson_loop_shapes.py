@@ -19,11 +19,17 @@ About 2-4 s per run on a quiet machine (2 runs per row, 6 rows).
 
 import argparse
 import time
+from typing import NamedTuple
 
 import numpy as np
 
 from rve_rod.errors import ConvergenceError
-from rve_rod.geometry.loop import OUT_OF_PLANE_PROFILES, single_jersey_loop
+from rve_rod.geometry.loop import (
+    OUT_OF_PLANE_PROFILES,
+    LoopGeometry,
+    LoopShape,
+    single_jersey_loop,
+)
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings, LoopCell
 from rve_rod.rve.load_cases import load_case
@@ -36,21 +42,63 @@ LATERAL_AXIS = {"uniaxial-course": 1, "uniaxial-wale": 0}
 """The free normal component of each case: P22 course-wise, P11 wale-wise."""
 
 
-def run(
-    profile: str, friction: bool, case_name: str, control_points: int, steps: int
-) -> RveResult:
-    """One uniaxial run of cotton 20s/2 stitch 5.5 on the loop of `profile`."""
+class Row(NamedTuple):
+    """One row: the loop's profile, friction on or off, optionally the model's ("band") loop at
+    the depth of another profile's loop (a control: depth alone), optionally the paper's second
+    moment (not the model's; marked in the table)."""
+
+    profile: str
+    friction: bool = True
+    depth_of: str | None = None
+    paper_second_moment: bool = False
+
+    def label(self) -> str:
+        label = self.profile if self.depth_of is None else f"band at the {self.depth_of} depth"
+        return label + (", paper I (not the model)" if self.paper_second_moment else "")
+
+
+ROWS = (
+    *(Row(profile) for profile in OUT_OF_PLANE_PROFILES),
+    Row("band", depth_of="parabolic"),
+    Row("band", depth_of="helical"),
+    *(Row(profile, friction=False) for profile in OUT_OF_PLANE_PROFILES),
+    Row("band", friction=False, depth_of="parabolic"),
+    Row("band", paper_second_moment=True),
+    Row("parabolic", paper_second_moment=True),
+)
+
+
+def loop_of(profile: str) -> LoopGeometry:
+    """The loop of cotton 20s/2 stitch 5.5 with the out-of-plane `profile`."""
     fabric = load_preset("cotton-20s2", 5.5)
     knit = fabric.knit
-    loop = single_jersey_loop(
+    return single_jersey_loop(
         knit.wale_width, knit.course_height, fabric.yarn.minimal_radius, profile=profile
     )
-    settings = RveSettings(
-        cell=CellSettings(control_points=control_points), yarn=YarnSettings(friction=friction)
+
+
+def curves_of(row: Row) -> list:
+    """The 4 curves of the row's loop."""
+    loop = loop_of(row.profile)
+    if row.depth_of is None:
+        return list(loop.curves)
+    depth = loop_of(row.depth_of).depth
+    shape = LoopShape(
+        loop.wale_width, loop.course_height, loop.yarn_radius, loop.shape_parameter, depth
     )
+    return list(shape.curves())
+
+
+def run(row: Row, case_name: str, control_points: int, steps: int) -> RveResult:
+    """One uniaxial run of cotton 20s/2 stitch 5.5 on the row's loop."""
+    fabric = load_preset("cotton-20s2", 5.5)
+    yarn = YarnSettings(
+        friction=row.friction, second_moment="paper" if row.paper_second_moment else "solid"
+    )
+    settings = RveSettings(cell=CellSettings(control_points=control_points), yarn=yarn)
     cell = LoopCell(
-        list(loop.curves),
-        knit,
+        curves_of(row),
+        fabric.knit,
         yarn_model(fabric, settings.yarn),
         load_case(case_name, 0.2, steps),
         settings.cell,
@@ -91,6 +139,7 @@ def main() -> None:
     parser.add_argument("--control-points", type=int, default=20)
     parser.add_argument("--steps", type=int, default=11)
     parser.add_argument("--only", nargs="*", choices=OUT_OF_PLANE_PROFILES)
+    parser.add_argument("--frictionless", action="store_true", help="only frictionless rows")
     args = parser.parse_args()
     fabric = load_preset("cotton-20s2", 5.5)
     knit = fabric.knit
@@ -100,33 +149,35 @@ def main() -> None:
         " split (cut / normal / friction) at 20 % in gf/cm\n"
     )
     print(
-        "| profile | friction | loop length (dev.) | depth / r | course F 10 % | course F 20 % |"
-        " nu12 | P22 split | wale F 10 % | wale F 20 % | nu21 | P11 split | s |"
+        "| loop | friction | loop length (dev.) | depth / r | course F 10 % | course F 20 % |"
+        " nu12 | P22 split | sliding / active | wale F 10 % | wale F 20 % | nu21 | P11 split |"
+        " s |"
     )
-    print("|---|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---|---:|")
-    for friction in (True, False):
-        for profile in args.only or OUT_OF_PLANE_PROFILES:
-            loop = single_jersey_loop(
-                knit.wale_width, knit.course_height, fabric.yarn.minimal_radius, profile=profile
-            )
-            started = time.perf_counter()
-            course, wale = (
-                run(profile, friction, case, args.control_points, args.steps) for case in CASES
-            )
-            seconds = time.perf_counter() - started
-            deviation = loop.loop_length / knit.measured_loop_length - 1
-            print(
-                f"| {profile} | {'mu = 0.15' if friction else 'none'}"
-                f" | {loop.loop_length:.3f} ({100 * deviation:+.1f} %)"
-                f" | {loop.depth / loop.yarn_radius:.2f}"
-                f" | {at(course, 0.1, 'force_gf_per_cm'):.4g}"
-                f" | {at(course, 0.2, 'force_gf_per_cm'):.4g} | {ratio(course)}"
-                f" | {lateral_split(course, CASES[0])}"
-                f" | {at(wale, 0.1, 'force_gf_per_cm'):.4g}"
-                f" | {at(wale, 0.2, 'force_gf_per_cm'):.4g} | {ratio(wale)}"
-                f" | {lateral_split(wale, CASES[1])} | {seconds:.0f} |",
-                flush=True,
-            )
+    print("|---|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---|---:|")
+    for row in ROWS:
+        if (args.only and row.profile not in args.only) or (args.frictionless and row.friction):
+            continue
+        curves = curves_of(row)
+        length = sum(curve.arc_length() for curve in curves)
+        depth = loop_of(row.depth_of or row.profile).depth
+        started = time.perf_counter()
+        course, wale = (run(row, case, args.control_points, args.steps) for case in CASES)
+        seconds = time.perf_counter() - started
+        deviation = length / knit.measured_loop_length - 1
+        last = course.steps[-1] if course.complete else None
+        contacts = f"{last.sliding_contacts} / {last.active_contacts}" if last else "-"
+        print(
+            f"| {row.label()} | {'mu = 0.15' if row.friction else 'none'}"
+            f" | {length:.3f} ({100 * deviation:+.1f} %)"
+            f" | {depth / loop_of('band').yarn_radius:.2f}"
+            f" | {at(course, 0.1, 'force_gf_per_cm'):.4g}"
+            f" | {at(course, 0.2, 'force_gf_per_cm'):.4g} | {ratio(course)}"
+            f" | {lateral_split(course, CASES[0])} | {contacts}"
+            f" | {at(wale, 0.1, 'force_gf_per_cm'):.4g}"
+            f" | {at(wale, 0.2, 'force_gf_per_cm'):.4g} | {ratio(wale)}"
+            f" | {lateral_split(wale, CASES[1])} | {seconds:.0f} |",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

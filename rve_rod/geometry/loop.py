@@ -343,8 +343,9 @@ def single_jersey_loop(
     With `shoulder_radius` (rho, mm, within `shoulder_radius_bounds`) the shape
     parameter is given instead of optimized (the depth still follows from the clearance
     condition). `profile` (OUT_OF_PLANE_PROFILES) is the out-of-plane shape: "band", the model,
-    or one of the issue-14 experiment's literature shapes. Takes about a second; results are remembered per process (they are
-    immutable), since the RVE runs of one fabric all use the same loop. Raises InputError for
+    or one of the issue-14 experiment's literature shapes. Takes about a second; results are
+    remembered per process (they are immutable), since the RVE runs of one fabric all use the
+    same loop. Raises InputError for
     non-positive or non-finite values and when no loop fits.
     """
     w = check_positive("wale_width", wale_width, "mm")
