@@ -33,6 +33,7 @@ from rve_rod.geometry.loop import (
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings, LoopCell
 from rve_rod.rve.load_cases import load_case
+from rve_rod.rve.macro import image_weights
 from rve_rod.rve.simulation import RveResult, RveSettings, run_cell
 from rve_rod.rve.yarn import YarnSettings, yarn_model
 from rve_rod.units import n_per_mm_to_gf_per_cm
@@ -89,8 +90,9 @@ def curves_of(row: Row) -> list:
     return list(shape.curves())
 
 
-def run(row: Row, case_name: str, control_points: int, steps: int) -> RveResult:
-    """One uniaxial run of cotton 20s/2 stitch 5.5 on the row's loop."""
+def run(row: Row, case_name: str, control_points: int, steps: int) -> tuple[RveResult, LoopCell]:
+    """One uniaxial run of cotton 20s/2 stitch 5.5 on the row's loop, and its cell (which keeps
+    the friction anchors of the last state)."""
     fabric = load_preset("cotton-20s2", 5.5)
     yarn = YarnSettings(
         friction=row.friction, second_moment="paper" if row.paper_second_moment else "solid"
@@ -104,9 +106,50 @@ def run(row: Row, case_name: str, control_points: int, steps: int) -> RveResult:
         settings.cell,
     )
     try:
-        return run_cell(cell, fabric, settings)
+        return run_cell(cell, fabric, settings), cell
     except ConvergenceError as error:
-        return error.history
+        return error.history, cell
+
+
+CONTACT_GROUPS = (
+    ("crossing, |n_z| > 0.7", 0.7, 1.01),
+    ("oblique, 0.3 < |n_z| <= 0.7", 0.3, 0.7),
+    ("in plane, |n_z| <= 0.3", -0.01, 0.3),
+)
+"""Contacts sorted by the out-of-plane part of their normal (as in docs/validation.md)."""
+
+
+def contact_groups(
+    result: RveResult, cell: LoopCell, a: int
+) -> list[tuple[str, int, float, float]]:
+    """The lateral P_aa of the last state split by CONTACT_GROUPS: (group, contacts, normal
+    part, friction part) (gf/cm), from the contact evaluation against the committed anchors
+    (for the last state its own: the converged friction loads)."""
+    F = np.eye(3)
+    F[:2, :2] = result.steps[-1].deformation
+    coupling = cell.coupling
+    contacts = coupling.contact.evaluate(result.centrelines[-1], F, tangent=False).contacts
+    weights, _ = image_weights(coupling, _Evaluated(contacts), a)  # for P_aa: column a
+    normal_part = weights * contacts.normal_load * contacts.normal[a]
+    friction_part = weights * contacts.friction_load[a]
+    rows = []
+    for name, low, high in CONTACT_GROUPS:
+        group = (np.abs(contacts.normal[2]) > low) & (np.abs(contacts.normal[2]) <= high)
+        rows.append(
+            (
+                name,
+                int(np.count_nonzero(group & (weights != 0))),
+                float(n_per_mm_to_gf_per_cm(normal_part[group].sum())),
+                float(n_per_mm_to_gf_per_cm(friction_part[group].sum())),
+            )
+        )
+    return rows
+
+
+class _Evaluated(NamedTuple):
+    """A contact evaluation as `image_weights` reads it."""
+
+    contacts: object
 
 
 def at(result: RveResult, strain: float, name: str) -> float:
@@ -154,6 +197,7 @@ def main() -> None:
         " s |"
     )
     print("|---|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---|---:|")
+    grouped = {}
     for row in ROWS:
         if (args.only and row.profile not in args.only) or (args.frictionless and row.friction):
             continue
@@ -161,8 +205,12 @@ def main() -> None:
         length = sum(curve.arc_length() for curve in curves)
         depth = loop_of(row.depth_of or row.profile).depth
         started = time.perf_counter()
-        course, wale = (run(row, case, args.control_points, args.steps) for case in CASES)
+        (course, course_cell), (wale, _) = (
+            run(row, case, args.control_points, args.steps) for case in CASES
+        )
         seconds = time.perf_counter() - started
+        if row.friction and row.depth_of is None and course.complete:
+            grouped[row.label()] = contact_groups(course, course_cell, LATERAL_AXIS[CASES[0]])
         deviation = length / knit.measured_loop_length - 1
         last = course.steps[-1] if course.complete else None
         contacts = f"{last.sliding_contacts} / {last.active_contacts}" if last else "-"
@@ -178,6 +226,12 @@ def main() -> None:
             f" | {lateral_split(wale, CASES[1])} | {seconds:.0f} |",
             flush=True,
         )
+
+    print("\n| loop (course-wise, 20 %) | contacts | count | normal part of P22 | friction part |")
+    print("|---|---|---:|---:|---:|")
+    for label, rows in grouped.items():
+        for name, count, normal, friction in rows:
+            print(f"| {label} | {name} | {count} | {normal:+.3g} | {friction:+.3g} |")
 
 
 if __name__ == "__main__":
