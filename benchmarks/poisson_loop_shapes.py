@@ -18,6 +18,7 @@ About 2-4 s per run on a quiet machine (2 runs per row, 6 rows).
 """
 
 import argparse
+import dataclasses
 import time
 from typing import NamedTuple
 
@@ -46,15 +47,20 @@ LATERAL_AXIS = {"uniaxial-course": 1, "uniaxial-wale": 0}
 class Row(NamedTuple):
     """One row: the loop's profile, friction on or off, optionally the model's ("band") loop at
     the depth of another profile's loop (a control: depth alone), optionally the paper's second
-    moment (not the model's; marked in the table)."""
+    moment or a contact law acting on a smaller radius `law_radius` r than the loop is built
+    with (the built-in contacts at W open by 2 (1 - law_radius) r: a control of the jammed row;
+    both not the model's, marked in the table)."""
 
     profile: str
     friction: bool = True
     depth_of: str | None = None
     paper_second_moment: bool = False
+    law_radius: float = 1.0
 
     def label(self) -> str:
         label = self.profile if self.depth_of is None else f"band at the {self.depth_of} depth"
+        if self.law_radius != 1.0:
+            label += f", contact law on {self.law_radius:g} r (not the model)"
         return label + (", paper I (not the model)" if self.paper_second_moment else "")
 
 
@@ -66,6 +72,11 @@ ROWS = (
     Row("band", friction=False, depth_of="parabolic"),
     Row("band", paper_second_moment=True),
     Row("parabolic", paper_second_moment=True),
+    *(
+        Row(profile, law_radius=factor)
+        for factor in (0.95, 0.9)
+        for profile in ("band", "parabolic")
+    ),
 )
 
 
@@ -98,10 +109,12 @@ def run(row: Row, case_name: str, control_points: int, steps: int) -> tuple[RveR
         friction=row.friction, second_moment="paper" if row.paper_second_moment else "solid"
     )
     settings = RveSettings(cell=CellSettings(control_points=control_points), yarn=yarn)
+    model = yarn_model(fabric, settings.yarn)
+    law = dataclasses.replace(model.law, yarn_radius=row.law_radius * model.radius)
     cell = LoopCell(
         curves_of(row),
         fabric.knit,
-        yarn_model(fabric, settings.yarn),
+        model._replace(law=law),
         load_case(case_name, 0.2, steps),
         settings.cell,
     )
@@ -209,7 +222,7 @@ def main() -> None:
             run(row, case, args.control_points, args.steps) for case in CASES
         )
         seconds = time.perf_counter() - started
-        if row.friction and row.depth_of is None and course.complete:
+        if row.friction and row.depth_of is None and row.law_radius == 1.0 and course.complete:
             grouped[row.label()] = contact_groups(course, course_cell, LATERAL_AXIS[CASES[0]])
         deviation = length / knit.measured_loop_length - 1
         last = course.steps[-1] if course.complete else None
