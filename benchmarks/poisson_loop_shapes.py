@@ -5,16 +5,20 @@ settings of benchmarks/poisson_sensitivity.py (20 control points per quarter, 11
 row builds the loop with one out-of-plane profile of `rve_rod.geometry.loop.OUT_OF_PLANE_PROFILES`
 ("band" is the model; "parabolic" Crane's, "helical" Kurbak-like legs; same projection,
 symmetries and clearance rule, the depth and shoulder found as for the model), with the
-paper's friction or frictionless, and prints the loop (length against the measured 5.50 mm,
-depth), the force at 10 and 20 % (gf/cm), the Poisson ratio at 20 % and the lateral macro
-stress at 20 % split into the yarn force through the cut and the normal and friction loads of
-the contacts (gf/cm; they sum to zero). The table goes into docs/validation.md ("Literature
-loop shapes").
+paper's friction or frictionless; control rows (`ROWS`) put the model's loop at the depth of
+another profile's, use the paper's second moment, or let the contact law act on a smaller
+radius than the loop's. It prints the loop (length against the measured 5.50 mm, depth), the
+force at 10 and 20 % (gf/cm), the Poisson ratio at 20 %, the lateral macro stress at 20 % split
+into the yarn force through the cut and the normal and friction loads of the contacts (gf/cm;
+they sum to zero), and, for the course-wise runs with friction, that P22 split by contact
+group (crossing, oblique, in plane). The tables go into docs/validation.md ("Literature loop
+shapes").
 
     .venv/bin/python benchmarks/poisson_loop_shapes.py [--control-points 20] [--steps 11]
-        [--only PROFILE ...]
+        [--only PROFILE ...] [--frictionless]
 
-About 2-4 s per run on a quiet machine (2 runs per row, 6 rows).
+About 1 s per run on a quiet machine (2 runs per row, 15 rows; 68 control points and 21 states:
+about 10 s per row).
 """
 
 import argparse
