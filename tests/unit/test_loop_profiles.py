@@ -77,7 +77,7 @@ def test_every_profile_has_the_jammed_row_at_half_the_course_height(profile):
         base = curve(u)
         for i in (-1, 0, 1):
             for j in (0, 1):
-                points = base + [i * w, j * c, 0.0]
+                points = base + np.array([i * w, j * c, 0.0])
                 y = points[:, 1] - c / 2
                 for k in np.flatnonzero(np.sign(y[:-1]) * np.sign(y[1:]) < 0):
                     t = y[k] / (y[k] - y[k + 1])
@@ -101,5 +101,5 @@ def test_loop_lengths_against_the_reference_tolerance():
 
 def test_an_unknown_profile_is_refused_with_the_valid_ones():
     knit = COTTON.knit
-    with pytest.raises(InputError, match="profile='kurbak'.*'band', 'parabolic', 'helical'"):
+    with pytest.raises(InputError, match=r"profile='kurbak'.*'band', 'parabolic', 'helical'"):
         single_jersey_loop(knit.wale_width, knit.course_height, 0.19, profile="kurbak")
