@@ -8,7 +8,8 @@ A change that moves them on purpose (a new contact law, a different loop) update
 here, in one place, and re-makes the docs listed with each number.
 
 Who checks what:
-  RVE_FAST, SHIPPED_SURFACE_FIT, MAIN_JOB_FAST, LOOP_LENGTHS: tests/regression/
+  RVE_FAST, SHIPPED_SURFACE_FIT, MAIN_JOB_FAST, LOOP_LENGTHS, LOOP_SHAPE_EXPERIMENT:
+  tests/regression/
   RVE_PAPER_RESOLUTION: tests/validation/test_rve_cotton.py
   RVE_FRICTION_CYCLE: tests/verification/test_rve_cell.py
   DEMOS: tests/validation/test_fabric_demos.py
@@ -157,6 +158,24 @@ LOOP_LENGTHS = {
     "cotton-20s2 7.0": Pin(6.864627140958308, 1e-5, GEOMETRY),
 }
 
+# The issue-14 experiment with literature loop shapes (NOT the model; docs/validation.md,
+# "Literature loop shapes"): the loop length (mm) of cotton 20s/2 stitch 5.5 with the
+# "parabolic" and "helical" out-of-plane profiles (`single_jersey_loop(..., profile=...)`), and
+# the RVE on the parabolic loop at the coarse settings of benchmarks/poisson_loop_shapes.py (20
+# control points, 0-20 % in 11 states, mu = 0.15): forces in gf/cm, Poisson ratios at 20 %.
+# Measured at commit 4f9c856 (loop model 0.2 + the experiment's profiles).
+SHAPES = "docs/validation.md (Literature loop shapes)"
+LOOP_SHAPE_EXPERIMENT = {
+    "parabolic loop length": Pin(5.681439593962536, 1e-5, SHAPES),
+    "helical loop length": Pin(5.920748040214065, 1e-5, SHAPES),
+    "parabolic course force 10 %": Pin(9.833247112267317, SOLVED, SHAPES),
+    "parabolic course force 20 %": Pin(24.280474574266858, SOLVED, SHAPES),
+    "parabolic wale force 10 %": Pin(33.82773214883634, SOLVED, SHAPES),
+    "parabolic wale force 20 %": Pin(86.02014488916474, SOLVED, SHAPES),
+    "parabolic nu12 20 %": Pin(0.1926233706771724, SOLVED, SHAPES),
+    "parabolic nu21 20 %": Pin(0.2191894127189553, SOLVED, SHAPES),
+}
+
 # The photo of demos/demo_measure_photo.py (cotton 5.5: w = 1.33 mm, c = 1.26 mm; 500 x 500 px
 # at 25 px/mm, turned by 8 degrees, blur 0.04 mm, noise 0.1 (seed 0), lighting 0.4; written as
 # an 8-bit PNG and read back) measured with `measure_photo`: w and c in mm, the angle in
@@ -184,6 +203,7 @@ TABLES = {
     "SHIPPED_SURFACE_FIT": SHIPPED_SURFACE_FIT,
     "MAIN_JOB_FAST": MAIN_JOB_FAST,
     "LOOP_LENGTHS": LOOP_LENGTHS,
+    "LOOP_SHAPE_EXPERIMENT": LOOP_SHAPE_EXPERIMENT,
     "IMAGING": IMAGING,
     "DEMOS": DEMOS,
 }

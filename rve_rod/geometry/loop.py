@@ -45,6 +45,7 @@ from rve_rod.presets import Knit
 
 __all__ = [
     "ADJACENT_ARC_FACTOR",
+    "OUT_OF_PLANE_PROFILES",
     "SHOULDER_ASPECT",
     "LoopGeometry",
     "LoopShape",
@@ -85,6 +86,20 @@ _DEPTH_TOLERANCE = 1e-5
 _DEPTH_ITERATIONS = 60
 _ROUND_OFF = 1e-9
 """Relative shortfall of 2r accepted as contact: the contacts at W are exact by construction."""
+OUT_OF_PLANE_PROFILES = ("band", "parabolic", "helical")
+"""How z runs along the loop. "band" is the model (legs flat, a parabola across the overlap
+band); the others are an EXPERIMENT for issue 14 (the knit contracts too little), not used by
+any shipped result: more three-dimensional loops of the literature, with the same projection,
+symmetries and clearance rule (docs/validation.md, "Literature loop shapes").
+
+- "parabolic": z = (d/2) (1 - 2 (y/h)^2) over the whole loop height, the out-of-plane shape of
+  Crane's parametric plain-knit yarn (K. Crane, "A simple parametric model of plain-knit
+  yarns", 2023: y = h cos t, z = d cos 2t = d (2 (y/h)^2 - 1)): no flat legs, the head and the
+  sinker loop lean out of plane all the way from the leg point.
+- "helical": z = -(d/2) cos(pi s), s the arc-length fraction of the quarter from the head apex
+  (0) to the leg point (1): the yarn climbs through the thickness at a steady rate along the
+  whole leg, like the legs wound on cylinders (helices) of Kurbak's plain-knit model (Kurbak &
+  Alpyildiz, Text. Res. J. 2009, whose heads lean towards the thickness direction)."""
 
 
 @dataclass(frozen=True)
@@ -98,6 +113,8 @@ class LoopShape:
         shoulder_radius: rho, the free shape parameter, within `shoulder_radius_bounds`; the
             shoulder is an ellipse of semi-axes SHOULDER_ASPECT rho (x) and rho (y).
         depth: d, the legs lie at z = d/2, head apex and sinker at z = -d/2.
+        profile: how z runs between them, one of OUT_OF_PLANE_PROFILES; "band" (the model)
+            unless running the issue-14 experiment.
     """
 
     wale_width: float
@@ -105,10 +122,12 @@ class LoopShape:
     yarn_radius: float
     shoulder_radius: float
     depth: float
+    profile: str = "band"
 
     def __post_init__(self):
         for name in ("wale_width", "course_height", "yarn_radius", "depth"):
             check_positive(name, getattr(self, name), "mm")
+        _check_profile(self.profile)
         bounds = shoulder_radius_bounds(self.wale_width, self.course_height, self.yarn_radius)
         check_range("shoulder_radius", self.shoulder_radius, *bounds, "mm")
 
@@ -159,15 +178,25 @@ class LoopShape:
         return points[np.concatenate([[True], steps > 0])]  # no crown when a = w/4 + r
 
     def height(self, y: np.ndarray) -> np.ndarray:
-        """z(y): d/2 on the legs, a parabola across the band c - h <= |y| <= h (mm)."""
+        """z(y) of the "band" profile: d/2 on the legs, a parabola across the band
+        c - h <= |y| <= h (mm)."""
         band_start = self.course_height / 2 - self.shoulder_radius  # c - h
         t = np.clip((np.abs(y) - band_start) / (2 * self.shoulder_radius), 0.0, 1.0)
         return self.depth * (0.5 - t**2)
 
+    def heights(self, plane: np.ndarray) -> np.ndarray:
+        """z of the quarter's projected points (k, 2), from the apex to L, by `profile` (mm)."""
+        if self.profile == "band":
+            return self.height(plane[:, 1])
+        if self.profile == "parabolic":
+            return self.depth * (0.5 - (plane[:, 1] / self.head_height) ** 2)
+        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(plane, axis=0), axis=1))])
+        return -0.5 * self.depth * np.cos(math.pi * arc / arc[-1])
+
     def quarter_samples(self, fractions: np.ndarray) -> "QuarterSamples":
         """Points of the 3D quarter at fractions of its arc length, and where it passes W."""
         plane = self.projection()
-        points = np.column_stack([plane, self.height(plane[:, 1])])
+        points = np.column_stack([plane, self.heights(plane)])
         arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
         targets = fractions * arc[-1]
         samples = np.stack([np.interp(targets, arc, points[:, k]) for k in range(3)], axis=1)
@@ -212,6 +241,8 @@ class LoopGeometry:
             non-adjacent parts of the loop itself (mm); 2r where yarns touch.
         closest: where that distance occurs.
         lattice: (2, 3) lattice vectors [(w, 0, 0), (0, c, 0)].
+        profile: the out-of-plane profile (OUT_OF_PLANE_PROFILES; "band" but in the issue-14
+            experiment).
     """
 
     wale_width: float
@@ -226,6 +257,7 @@ class LoopGeometry:
     min_clearance: float
     closest: ChainClearance
     lattice: np.ndarray
+    profile: str = "band"
 
     def refined(self, control_points: int) -> tuple[BSplineCurve, ...]:
         """The 4 curves h-refined to `control_points` each, unchanged in shape.
@@ -304,18 +336,22 @@ def single_jersey_loop(
     course_height: float,
     minimal_radius: float,
     shoulder_radius: float | None = None,
+    profile: str = "band",
 ) -> LoopGeometry:
     """Build the minimum-length loop for wale width w, course height c, yarn radius r0 (mm).
 
     With `shoulder_radius` (rho, mm, within `shoulder_radius_bounds`) the shape
     parameter is given instead of optimized (the depth still follows from the clearance
-    condition). Takes about a second; results are remembered per process (they are
-    immutable), since the RVE runs of one fabric all use the same loop. Raises InputError for
+    condition). `profile` (OUT_OF_PLANE_PROFILES) is the out-of-plane shape: "band", the model,
+    or one of the issue-14 experiment's literature shapes. Takes about a second; results are
+    remembered per process (they are immutable), since the RVE runs of one fabric all use the
+    same loop. Raises InputError for
     non-positive or non-finite values and when no loop fits.
     """
     w = check_positive("wale_width", wale_width, "mm")
     c = check_positive("course_height", course_height, "mm")
     r0 = check_positive("yarn_radius", minimal_radius, "mm")
+    _check_profile(profile)
     r = adjusted_radius(r0, w)
     if r < r0:  # the paper's adjustment (a few %) is routine; a large one is a surprise
         logger.log(
@@ -329,7 +365,7 @@ def single_jersey_loop(
         raise _no_loop(
             w, c, r, f"course_height must be >= {2 * SHOULDER_ASPECT:g} r = {2 * smallest:.4g} mm"
         )
-    search = _ShapeSearch(w, c, r)
+    search = _ShapeSearch(w, c, r, profile)
     if shoulder_radius is None:
         rho = search.shortest()
     else:
@@ -337,7 +373,7 @@ def single_jersey_loop(
     depth = search.depth(rho)
     if not math.isfinite(depth):
         raise _no_loop(w, c, r, f"no depth up to {MAX_DEPTH_FACTOR:g} r for rho = {rho:.4g} mm")
-    shape = LoopShape(w, c, r, rho, depth)
+    shape = LoopShape(w, c, r, rho, depth, profile)
     curves = shape.curves()
     closest = search.clearance(curves)
     return LoopGeometry(
@@ -353,6 +389,7 @@ def single_jersey_loop(
         min_clearance=closest.distance,
         closest=closest,
         lattice=search.lattice,
+        profile=profile,
     )
 
 
@@ -362,8 +399,8 @@ class _ShapeSearch:
     Remembers the depths found: the depth of the nearest shoulder radius seeds the next search.
     """
 
-    def __init__(self, w: float, c: float, r: float):
-        self.w, self.c, self.r = w, c, r
+    def __init__(self, w: float, c: float, r: float, profile: str):
+        self.w, self.c, self.r, self.profile = w, c, r, profile
         self.lattice = np.array([[w, 0.0, 0.0], [0.0, c, 0.0]])
         self.depths: dict[float, float] = {}
 
@@ -373,7 +410,7 @@ class _ShapeSearch:
 
     def excess(self, rho: float, depth: float) -> float:
         """clearance / 2r - 1 of the fitted loop (>= 0: the yarns do not interpenetrate)."""
-        curves = LoopShape(self.w, self.c, self.r, rho, depth).curves()
+        curves = LoopShape(self.w, self.c, self.r, rho, depth, self.profile).curves()
         return self.clearance(curves).distance / (2 * self.r) - 1
 
     def depth(self, rho: float) -> float:
@@ -393,7 +430,8 @@ class _ShapeSearch:
         depth = self.depth(rho)
         if not math.isfinite(depth):
             return math.inf
-        return 4 * LoopShape(self.w, self.c, self.r, rho, depth).curves()[2].arc_length()
+        shape = LoopShape(self.w, self.c, self.r, rho, depth, self.profile)
+        return 4 * shape.curves()[2].arc_length()
 
     def shortest(self) -> float:
         """The shoulder radius of the shortest loop: a scan, then Brent's method around it."""
@@ -431,6 +469,14 @@ class _ShapeSearch:
             options={"xatol": _SHOULDER_TOLERANCE * r},
         )
         return float(optimum.x) if optimum.fun <= lengths[best] else float(grid[best])
+
+
+def _check_profile(profile: str) -> None:
+    if profile not in OUT_OF_PLANE_PROFILES:
+        raise InputError(
+            f"profile={profile!r} is not an out-of-plane profile: use one of "
+            + ", ".join(repr(name) for name in OUT_OF_PLANE_PROFILES)
+        )
 
 
 def _no_loop(w: float, c: float, r: float, reason: str) -> InputError:
