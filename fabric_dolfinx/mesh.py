@@ -103,9 +103,12 @@ def mesh_gmsh_model(
     parameters: Mapping[str, float] | None = None,
     refinements: int = 0,
     source: str = "gmsh model",
+    *,
+    gdim: int = 2,
 ) -> TaggedMesh:
     """Run `build` on rank 0 inside an initialized gmsh (it must leave a 2D mesh in the
-    current model), refine, check and distribute the mesh over `comm`.
+    current model), refine, check and distribute the mesh over `comm`. `gdim` 3 keeps the
+    z coordinate: a curved surface in space (`fabric_dolfinx.membrane3d`).
 
     Raises InputError (on every rank) when the mesh has cells other than 4-node
     quadrilaterals, no physical surface, or a curve (surface) in two physical curves
@@ -135,7 +138,9 @@ def mesh_gmsh_model(
         groups = comm.bcast(groups, root=0)
         if isinstance(groups, InputError):
             raise groups
-        mesh, cell_tags, facet_tags = dolfinx.io.gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
+        mesh, cell_tags, facet_tags = dolfinx.io.gmshio.model_to_mesh(
+            gmsh.model, comm, 0, gdim=gdim
+        )
     finally:
         if comm.rank == 0:
             gmsh.finalize()
