@@ -69,7 +69,11 @@ def solve(size):
     tagged = make_mesh(MeshSpec("disc", {"radius": RADIUS}, element_size=size))
     svk = OrthotropicSVK(STIFFNESS, STIFFNESS, POISSON, STIFFNESS / (2 * (1 + POISSON)))
     problem = Membrane3DProblem(
-        tagged, svk_material(svk), [Support("rim")], pressure=PRESSURE, options=SolverOptions(steps=1)
+        tagged,
+        svk_material(svk),
+        [Support("rim")],
+        pressure=PRESSURE,
+        options=SolverOptions(steps=1),
     )
     result = problem.run()
     return problem, result
@@ -83,9 +87,11 @@ def meshes():
 def test_central_deflection_converges_to_hencky_at_second_order(meshes):
     expected = hencky_deflection()
     errors = []
-    for size, (problem, result) in meshes.items():
+    for problem, result in meshes.values():
         displacement = problem.u.x.array.reshape(-1, 3)
-        centre = np.argmin(np.linalg.norm(problem.u.function_space.tabulate_dof_coordinates(), axis=1))
+        centre = np.argmin(
+            np.linalg.norm(problem.u.function_space.tabulate_dof_coordinates(), axis=1)
+        )
         assert result.peak_displacement[-1] == pytest.approx(displacement[centre, 2], rel=1e-12)
         errors.append(abs(displacement[centre, 2] - expected) / expected)
     rates = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
