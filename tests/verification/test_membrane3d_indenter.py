@@ -1,6 +1,7 @@
 """A rigid sphere pushed into a clamped disc (the ball-burst geometry, SVK stand-in): the
 reported force converges as the penalty grows (error ~ 1/k) and is independent of it within
-0.1 % at the default choice; the force on the sphere balances the clamp's reaction."""
+0.1 % from k = 100 N/mm^3 on; the force on the sphere balances the clamp's reaction (to the
+Newton tolerance)."""
 
 import numpy as np
 import pytest
@@ -43,7 +44,7 @@ def test_force_converges_with_the_penalty(tagged):
     assert np.all(changes[1:] < 1e-3), changes
     for result in results:
         np.testing.assert_allclose(
-            result.indenter_force, result.reactions["rim"], rtol=0, atol=1e-7
+            result.indenter_force, result.reactions["rim"], rtol=0, atol=1e-5 * forces[-1]
         )
         assert np.all(np.diff(result.indenter_force[:, 2]) < 0.0)
         assert result.dome_amplitude > 0.0
