@@ -45,6 +45,7 @@ from dolfinx.io import XDMFFile
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from fabric_dolfinx.domain import StrainRangeCheck
 from fabric_dolfinx.material import Material
 from fabric_dolfinx.membrane3d import (
     SphereIndenter,
@@ -127,6 +128,7 @@ class Membrane3DResult(NamedTuple):
         peak_displacement: (k+1,) largest displacement magnitude over the nodes (mm).
         dome_amplitude: the first step's one-mode dome height (mm), 0 when none was needed.
         stabilization_force: (k+1,) the normal stabilization's force of each step (N).
+        outside_domain: whether strains left the response surface's sampled domain.
         newton_iterations: (k,) per converged step; cutbacks: failed attempts.
         dofs, ranks, wall_time_s, path: as for the plane membrane.
     """
@@ -138,6 +140,7 @@ class Membrane3DResult(NamedTuple):
     peak_displacement: np.ndarray
     dome_amplitude: float
     stabilization_force: np.ndarray
+    outside_domain: bool
     newton_iterations: np.ndarray
     cutbacks: int
     dofs: int
@@ -372,12 +375,20 @@ class Membrane3DProblem:
         self.set_load_factor(0.0)
         fields = Membrane3DFields(self) if xdmf is not None else None
         self.previous.x.array[:] = 0.0
+        check = None
+        if self.material.domain is not None:
+            strain = surface_stress_state(self.u, self.material.law, self.frame).strain
+            mesh = self.tagged.mesh
+            check = StrainRangeCheck(strain, mesh, self.material.domain, self.quadrature_degree)
+        outside = [False]
         states = [self._state(0.0)]
         stabilization = [0.0]
         start = time.perf_counter()
 
         def after_step(step: StepRecord, output) -> None:
             stabilization.append(self.stabilization_force())
+            if check is not None:
+                outside[0] = check(step.load_factor) or outside[0]
             self.previous.x.array[:] = self.u.x.array
             states.append(self._state(step.load_factor))
             if output is not None:
@@ -399,12 +410,12 @@ class Membrane3DProblem:
                 path = solve(None)
         except ConvergenceError as error:
             partial = self._result(
-                error.history, states, stabilization, time.perf_counter() - start
+                error.history, states, stabilization, outside[0], time.perf_counter() - start
             )
             raise ConvergenceError(
                 str(error), last_converged=error.last_converged, history=partial
             ) from None
-        return self._result(path, states, stabilization, time.perf_counter() - start)
+        return self._result(path, states, stabilization, outside[0], time.perf_counter() - start)
 
     def _state(self, load_factor: float) -> tuple:
         force = self.indenter_force() if self._indenter_forms is not None else None
@@ -417,7 +428,9 @@ class Membrane3DProblem:
         value = fem.assemble_scalar(self._stabilization_form)
         return self.tagged.mesh.comm.allreduce(value, op=MPI.SUM)
 
-    def _result(self, path: PathResult, states, stabilization, wall_time) -> Membrane3DResult:
+    def _result(
+        self, path: PathResult, states, stabilization, outside: bool, wall_time: float
+    ) -> Membrane3DResult:
         states = states[: len(path.steps) + 1]
         load_factor = np.array([s[0] for s in states])
         reactions = {
@@ -437,6 +450,7 @@ class Membrane3DProblem:
             peak_displacement=np.array([s[2] for s in states]),
             dome_amplitude=self.dome_amplitude,
             stabilization_force=np.array(stabilization[: len(path.steps) + 1]),
+            outside_domain=outside,
             newton_iterations=np.array([s.iterations for s in path.steps], dtype=int),
             cutbacks=path.cutbacks,
             dofs=self.dofs,

@@ -73,8 +73,11 @@ def read_geo(
     comm: MPI.Comm = MPI.COMM_WORLD,
     parameters: Mapping[str, float] | None = None,
     refinements: int = 0,
+    *,
+    gdim: int = 2,
 ) -> TaggedMesh:
-    """Mesh a gmsh `.geo` file (or read a `.msh` file) on rank 0 and distribute it over `comm`.
+    """Mesh a gmsh `.geo` file (or read a `.msh` file) on rank 0 and distribute it over `comm`
+    (`gdim` 3: a surface in space, see `mesh_gmsh_model`).
 
     Args:
         path: the geometry; its physical curves become the facet tags and its physical
@@ -94,7 +97,7 @@ def read_geo(
         if path.suffix == ".geo":
             gmsh.model.mesh.generate(2)
 
-    return mesh_gmsh_model(build, comm, parameters, refinements, source=str(path))
+    return mesh_gmsh_model(build, comm, parameters, refinements, source=str(path), gdim=gdim)
 
 
 def mesh_gmsh_model(

@@ -5,13 +5,15 @@
   With `quarter=True` only the quadrant x, y >= 0, with the two more boundaries "x0" (the
   edge in the plane x = 0) and "y0" (in y = 0) for symmetry conditions.
 
-Its course direction runs around the circumference: `tube_course` and `tube_side` are the
-course and normal-side fields `membrane3d.curved_frame` needs (outward normal). Lengths mm.
+`axis_fields` gives the course and normal-side fields `membrane3d.curved_frame` needs for
+surfaces around an axis: the course around the axis (a tube's circumference, the default of
+the tube) or along it, the normal pointing away from the axis. Lengths mm.
 """
 
 import math
 
 import gmsh
+import numpy as np
 import ufl
 from mpi4py import MPI
 
@@ -19,20 +21,36 @@ from fabric_dolfinx.mesh import TaggedMesh, mesh_gmsh_model
 from rve_rod.errors import check_positive
 
 __all__ = [
-    "tube_course",
+    "axis_fields",
     "tube_mesh",
-    "tube_side",
 ]
 
 
-def tube_course(x) -> ufl.core.expr.Expr:
-    """The circumferential direction (-y, x, 0) about the z axis."""
-    return ufl.as_vector([-x[1], x[0], 0.0])
+def axis_fields(course: str = "around", axis=(0.0, 0.0, 1.0), point=(0.0, 0.0, 0.0)):
+    """(course field, side field), functions of the position X (UFL (3,)) for `curved_frame`.
 
+    Args:
+        course: "around" (axis x (X - point), circumferential) or "along" (the axis
+            direction, projected onto the surface by the frame).
+        axis: the axis direction (3,); point: a point on it (mm).
+    The side field is the part of X - point normal to the axis: the normal points away
+    from the axis, so a positive pressure inflates a tube.
+    """
+    direction = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    a = ufl.as_vector([float(c) for c in direction])
+    origin = ufl.as_vector([float(c) for c in point])
 
-def tube_side(x) -> ufl.core.expr.Expr:
-    """Outwards from the z axis, (x, y, 0): a positive pressure inflates the tube."""
-    return ufl.as_vector([x[0], x[1], 0.0])
+    def side(x):
+        offset = x - origin
+        return offset - ufl.dot(offset, a) * a
+
+    def around(x):
+        return ufl.cross(a, x - origin)
+
+    def along(x):
+        return a
+
+    return (around if course == "around" else along), side
 
 
 def tube_mesh(

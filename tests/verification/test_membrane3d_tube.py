@@ -16,7 +16,7 @@ import scipy.optimize
 from fabric_dolfinx.material import OrthotropicSVK, svk_material
 from fabric_dolfinx.membrane3d_solve import EdgeLoad, Membrane3DFields, Membrane3DProblem, Support
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.surfaces3d import tube_course, tube_mesh, tube_side
+from fabric_dolfinx.surfaces3d import axis_fields, tube_mesh
 
 RADIUS, LENGTH, PRESSURE, SIZE = 10.0, 20.0, 0.01, 2.5  # mm, mm, N/mm^2, mm
 SVK = OrthotropicSVK(
@@ -30,13 +30,14 @@ def quarter_tube(comm=None):
     """A quadrant with symmetry conditions; the closed end's axial force p pi R^2 as the dead
     load p R / 2 per length on the top edge."""
     kwargs = {} if comm is None else {"comm": comm}
+    course, side = axis_fields("around")
     tagged = tube_mesh(RADIUS, LENGTH, SIZE, quarter=True, **kwargs)
     return Membrane3DProblem(
         tagged,
         svk_material(SVK),
         [Support("bottom", "z"), Support("x0", "x"), Support("y0", "y")],
-        course=tube_course,
-        side=tube_side,
+        course=course,
+        side=side,
         pressure=PRESSURE,
         edge_loads=[EdgeLoad("top", (0.0, 0.0, PRESSURE * RADIUS / 2))],
         options=SolverOptions(steps=2),
