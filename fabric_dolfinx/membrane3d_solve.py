@@ -125,7 +125,8 @@ class Membrane3DResult(NamedTuple):
         reactions: support name -> (k+1, 3) force (Fx, Fy, Fz) the fabric receives there (N).
         indenter_force: (k+1, 3) force the fabric exerts on the indenter (N), or None.
         indenter_travel: (k+1,) the indenter centre's travel (mm), or None.
-        peak_displacement: (k+1,) largest displacement magnitude over the nodes (mm).
+        peak_displacement: (k+1,) largest deflection |u_z| of a flat part (the dome height),
+            largest displacement |u| of a curved one, over the nodes (mm).
         dome_amplitude: the first step's one-mode dome height (mm), 0 when none was needed.
         stabilization_force: (k+1,) the normal stabilization's force of each step (N).
         outside_domain: whether strains left the response surface's sampled domain.
@@ -361,8 +362,10 @@ class Membrane3DProblem:
         )
 
     def peak_displacement(self) -> float:
-        """The largest nodal displacement magnitude (mm, collective)."""
-        values = np.linalg.norm(self.u.x.array.reshape(-1, 3), axis=1)
+        """The largest deflection |u_z| of a flat part, the largest displacement |u| of a
+        curved one, over the nodes (mm, collective)."""
+        u = self.u.x.array.reshape(-1, 3)
+        values = np.abs(u[:, 2]) if self.flat else np.linalg.norm(u, axis=1)
         local = float(values.max()) if values.size else 0.0
         return self.tagged.mesh.comm.allreduce(local, op=MPI.MAX)
 
