@@ -23,9 +23,11 @@ under in-plane loads) none out of its plane. An optional normal stabilization ad
 c ((u - u_n) . N) (v . N) dA to the residual (c N/mm^3, u_n the last converged state, N the
 reference normal): a spring to the previous step that carries a step through such zones. It
 vanishes for purely in-plane motion (so in-plane loading gives the plane membrane's result
-exactly) and its force, c int |(u - u_n) . N| dA, is reported every step: it must stay
-small against the loads. The cells' state is reported in the `slack` field (0 taut,
-1 wrinkled, 2 slack).
+exactly). After each stabilized step Newton runs once more without it, from the stabilized
+state: where the fabric is taut this converges and the step is exact; where it cannot (slack
+or wrinkled zones) the stabilized state is kept and its force, c int |(u - u_n) . N| dA, is
+reported for the step: it must stay small against the loads. The cells' state is reported
+in the `slack` field (0 taut, 1 wrinkled, 2 slack).
 """
 
 import logging
@@ -231,11 +233,13 @@ class Membrane3DProblem:
             raise InputError(f"stabilization={stabilization!r} must be >= 0 (N/mm^3)")
         self.previous = fem.Function(space)
         self._stabilization_form = None
+        self._stabilization = None
         if stabilization > 0.0:
+            self._stabilization = fem.Constant(mesh, PETSc.ScalarType(stabilization))
             normal = ufl.dot(self.u - self.previous, self.frame.normal)
-            term = -stabilization * normal * ufl.dot(v, self.frame.normal) * dx
+            term = -self._stabilization * normal * ufl.dot(v, self.frame.normal) * dx
             loads = term if loads is None else loads + term
-            self._stabilization_form = fem.form(stabilization * abs(normal) * dx)
+            self._stabilization_form = fem.form(self._stabilization * abs(normal) * dx)
         residual, jacobian = forms.residual, forms.jacobian
         if loads is not None:
             residual = residual - loads
@@ -386,9 +390,12 @@ class Membrane3DProblem:
         outside = [False]
         states = [self._state(0.0)]
         stabilization = [0.0]
+        reactions: list[dict] = []
         start = time.perf_counter()
 
         def after_step(step: StepRecord, output) -> None:
+            released = self._stabilization is not None and self.stabilization_force() > 0.0
+            reactions.append(self._release() if released else step.reactions)
             stabilization.append(self.stabilization_force())
             if check is not None:
                 outside[0] = check(step.load_factor) or outside[0]
@@ -412,17 +419,36 @@ class Membrane3DProblem:
             else:
                 path = solve(None)
         except ConvergenceError as error:
-            partial = self._result(
-                error.history, states, stabilization, outside[0], time.perf_counter() - start
-            )
+            records = (reactions, stabilization, outside[0])
+            partial = self._result(error.history, states, records, time.perf_counter() - start)
             raise ConvergenceError(
                 str(error), last_converged=error.last_converged, history=partial
             ) from None
-        return self._result(path, states, stabilization, outside[0], time.perf_counter() - start)
+        return self._result(
+            path, states, (reactions, stabilization, outside[0]), time.perf_counter() - start
+        )
 
     def _state(self, load_factor: float) -> tuple:
         force = self.indenter_force() if self._indenter_forms is not None else None
         return load_factor, force, self.peak_displacement()
+
+    def _release(self) -> dict[str, np.ndarray]:
+        """After a stabilized step: Newton once more without the stabilization, from the
+        stabilized state. When it converges the step is exact (its stabilization force is
+        0); otherwise the stabilized state is kept. Returns the supports' reactions."""
+        value = self._stabilization.value.copy()
+        saved = self.u.x.array.copy()
+        self._stabilization.value = 0.0
+        released = self.stepper.newton().converged
+        if not released:
+            self.u.x.array[:] = saved
+            self._stabilization.value = value
+        reactions = self.stepper.reaction_forces()
+        if released:
+            self.previous.x.array[:] = self.u.x.array  # its force is 0
+            self._stabilization.value = value
+        logger.info("stabilization released: %s", released)
+        return reactions
 
     def stabilization_force(self) -> float:
         """c int |(u - u_n) . N| dA (N) of the current step, 0 without stabilization."""
@@ -432,12 +458,17 @@ class Membrane3DProblem:
         return self.tagged.mesh.comm.allreduce(value, op=MPI.SUM)
 
     def _result(
-        self, path: PathResult, states, stabilization, outside: bool, wall_time: float
+        self, path: PathResult, states, records: tuple, wall_time: float
     ) -> Membrane3DResult:
+        """`records`: (reactions per step after the release, stabilization force per state,
+        whether strains left the surface's domain)."""
+        reactions, stabilization, outside = records
         states = states[: len(path.steps) + 1]
+        if self._stabilization is None:
+            reactions = [step.reactions for step in path.steps]
         load_factor = np.array([s[0] for s in states])
         reactions = {
-            s.name: np.array([np.zeros(3)] + [step.reactions[s.name] for step in path.steps])
+            s.name: np.array([np.zeros(3)] + [r[s.name] for r in reactions[: len(path.steps)]])
             for s in self.supports
         }
         travel = None
