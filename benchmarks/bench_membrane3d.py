@@ -14,11 +14,16 @@ For each: DOFs, wall time (s, forms compiled beforehand), Newton iterations per 
 (mean/max) and cutbacks; each on 1 and on 2 MPI ranks (the 2-rank runs start this script
 under mpirun with --case and --elements).
 
-    python benchmarks/bench_membrane3d.py [--case ball|tube] [--quick]
+  hencky the full-resolution variant of tests/verification/test_membrane3d_hencky.py:
+         central deflection error against Hencky's series down to 1.25 mm quads, with the
+         observed convergence rate.
+
+    python benchmarks/bench_membrane3d.py [--case ball|tube|hencky] [--quick]
 """
 
 import argparse
 import json
+import math
 import os
 import subprocess
 import sys
@@ -34,6 +39,7 @@ from fabric_dolfinx.part_spec import MeshSpec
 from fabric_dolfinx.shapes import make_mesh
 from fabric_dolfinx.solve import SolverOptions
 from fabric_dolfinx.surfaces3d import axis_fields
+from rve_rod.errors import ConvergenceError
 from rve_rod.surface import read_surface
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -61,8 +67,9 @@ def ball(elements: int, penalty: float = 10.0) -> dict:
         options=SolverOptions(steps=12),
     )
     start = time.perf_counter()
-    result = problem.run()
-    return _record(problem, result, time.perf_counter() - start, -result.indenter_force[-1, 2])
+    result, reached = _run(problem)
+    force = -result.indenter_force[-1, 2]
+    return _record(problem, result, time.perf_counter() - start, force, reached)
 
 
 def tube(elements: int) -> dict:
@@ -80,13 +87,24 @@ def tube(elements: int) -> dict:
         options=SolverOptions(steps=10),
     )
     start = time.perf_counter()
-    result = problem.run()
-    return _record(problem, result, time.perf_counter() - start, result.peak_displacement[-1])
+    result, reached = _run(problem)
+    displacement = result.peak_displacement[-1]
+    return _record(problem, result, time.perf_counter() - start, displacement, reached)
 
 
-def _record(problem, result, seconds: float, value: float) -> dict:
+def _run(problem):
+    """(result, load factor reached): the converged steps when the solver gives up."""
+    try:
+        result = problem.run()
+    except ConvergenceError as error:
+        result = error.history
+    return result, float(result.load_factor[-1])
+
+
+def _record(problem, result, seconds: float, value: float, reached: float) -> dict:
     iterations = result.newton_iterations
     return {
+        "reached": reached,
         "dofs": problem.dofs,
         "ranks": MPI.COMM_WORLD.size,
         "seconds": seconds,
@@ -121,10 +139,12 @@ def table(case: str, sizes) -> None:
     for elements in sizes:
         run(elements)  # compile the forms (cached for the timed runs)
         for record in (run(elements), on_two_ranks(case, elements)):
+            reached = record["reached"]
+            note = "" if reached == 1.0 else f" (gave up at t = {reached:.3g})"
             print(
                 f"| {elements} | {LEVELS[elements]} | {record['dofs']} | {record['ranks']} | "
                 f"{record['seconds']:.2f} | {record['mean_iterations']:.1f} / "
-                f"{record['max_iterations']} | {record['cutbacks']} | {record['value']:.6g} |"
+                f"{record['max_iterations']} | {record['cutbacks']} | {record['value']:.6g}{note} |"
             )
 
 
@@ -140,9 +160,31 @@ def penalty_table() -> None:
         previous = force
 
 
+def hencky_table() -> None:
+    sys.path.insert(0, str(ROOT / "tests" / "verification"))
+    import test_membrane3d_hencky as hencky  # noqa: PLC0415 (the test's series and setup)
+
+    expected = hencky.hencky_deflection()
+    print(f"\nHencky: central deflection against the series ({expected:.6f} mm)")
+    print("| quad size (mm) | DOFs | deflection (mm) | relative error | rate | time (s) |")
+    print("|---|---|---|---|---|---|")
+    previous = None
+    for size in (10.0, 5.0, 2.5, 1.25):
+        start = time.perf_counter()
+        problem, result = hencky.solve(size)
+        seconds = time.perf_counter() - start
+        error = abs(result.peak_displacement[-1] - expected) / expected
+        rate = "" if previous is None else f"{math.log2(previous / error):.2f}"
+        print(
+            f"| {size:g} | {problem.dofs} | {result.peak_displacement[-1]:.6f} | {error:.2e} | "
+            f"{rate} | {seconds:.2f} |"
+        )
+        previous = error
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--case", choices=sorted(CASES))
+    parser.add_argument("--case", choices=[*sorted(CASES), "hencky"])
     parser.add_argument("--elements", type=int)
     parser.add_argument("--json", action="store_true", help="one run as JSON (for mpirun)")
     parser.add_argument("--quick", action="store_true", help="fast and balanced meshes only")
@@ -153,7 +195,9 @@ def main() -> None:
             print(json.dumps(record))
         return
     sizes = (6, 10) if args.quick else (6, 10, 20, 40)
-    for case in [args.case] if args.case else sorted(CASES):
+    if args.case in (None, "hencky"):
+        hencky_table()
+    for case in [args.case] if args.case in CASES else [] if args.case else sorted(CASES):
         table(case, sizes)
     if args.case in (None, "ball"):
         penalty_table()
