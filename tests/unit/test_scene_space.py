@@ -2,6 +2,7 @@
 clear message each and exit status 2 (a pressure or indenter on a plane-stress scene, a tube
 without [space], a gmsh surface without a course field, an indenter inside the fabric)."""
 
+import json
 import tomllib
 from pathlib import Path
 
@@ -112,3 +113,13 @@ def test_the_command_line_exits_2_on_an_indenter_inside_the_fabric(tmp_path, cap
     error = capsys.readouterr().err
     # the nearest node of the coarse disc is 2.2 mm off the centre
     assert "radius=12.7 mm starts inside the fabric (gap -0.3711 mm)" in error
+
+
+def test_the_fabric_job_in_space_survives_its_json_round_trip():
+    """The mpirun path sends the job as JSON: the part's space comes back equal."""
+    from knitmech.fabric_job_spec import FabricJob, RegionMaterial  # noqa: PLC0415
+
+    scene = scene_from_dict({**BASE, "space": {"stabilization": 1e-4}, "indenter": SPHERE})
+    part = scene.resolved(fidelity_level("fast")).part
+    job = FabricJob(part, (RegionMaterial(svk={"course_stiffness": 2.0}),), steps=4)
+    assert FabricJob.from_json(json.loads(json.dumps(job.to_json()))) == job
