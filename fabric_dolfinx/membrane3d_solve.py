@@ -214,8 +214,7 @@ class Membrane3DProblem:
         self._scaled: list[tuple[fem.Constant, np.ndarray, np.ndarray]] = []
         loads = None
         if pressure != 0.0:
-            self._pressure = self._constant(np.array(pressure))
-            loads = pressure_residual(self.u, self._pressure, self.frame, dx)
+            loads = pressure_residual(self.u, self._constant(np.array(pressure)), self.frame, dx)
         v = ufl.TestFunction(space)
         for load in self.edge_loads:
             value = self._constant(np.asarray(load.vector, dtype=float))
@@ -244,7 +243,6 @@ class Membrane3DProblem:
         if loads is not None:
             residual = residual - loads
             jacobian = jacobian - ufl.derivative(loads, self.u, ufl.TrialFunction(space))
-        self.residual = residual
         self.bcs = []
         fdim = mesh.topology.dim - 1
         for support in self.supports:
