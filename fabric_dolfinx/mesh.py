@@ -73,8 +73,11 @@ def read_geo(
     comm: MPI.Comm = MPI.COMM_WORLD,
     parameters: Mapping[str, float] | None = None,
     refinements: int = 0,
+    *,
+    gdim: int = 2,
 ) -> TaggedMesh:
-    """Mesh a gmsh `.geo` file (or read a `.msh` file) on rank 0 and distribute it over `comm`.
+    """Mesh a gmsh `.geo` file (or read a `.msh` file) on rank 0 and distribute it over `comm`
+    (`gdim` 3: a surface in space, see `mesh_gmsh_model`).
 
     Args:
         path: the geometry; its physical curves become the facet tags and its physical
@@ -94,7 +97,7 @@ def read_geo(
         if path.suffix == ".geo":
             gmsh.model.mesh.generate(2)
 
-    return mesh_gmsh_model(build, comm, parameters, refinements, source=str(path))
+    return mesh_gmsh_model(build, comm, parameters, refinements, source=str(path), gdim=gdim)
 
 
 def mesh_gmsh_model(
@@ -103,9 +106,12 @@ def mesh_gmsh_model(
     parameters: Mapping[str, float] | None = None,
     refinements: int = 0,
     source: str = "gmsh model",
+    *,
+    gdim: int = 2,
 ) -> TaggedMesh:
     """Run `build` on rank 0 inside an initialized gmsh (it must leave a 2D mesh in the
-    current model), refine, check and distribute the mesh over `comm`.
+    current model), refine, check and distribute the mesh over `comm`. `gdim` 3 keeps the
+    z coordinate: a curved surface in space (`fabric_dolfinx.membrane3d`).
 
     Raises InputError (on every rank) when the mesh has cells other than 4-node
     quadrilaterals, no physical surface, or a curve (surface) in two physical curves
@@ -135,7 +141,9 @@ def mesh_gmsh_model(
         groups = comm.bcast(groups, root=0)
         if isinstance(groups, InputError):
             raise groups
-        mesh, cell_tags, facet_tags = dolfinx.io.gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
+        mesh, cell_tags, facet_tags = dolfinx.io.gmshio.model_to_mesh(
+            gmsh.model, comm, 0, gdim=gdim
+        )
     finally:
         if comm.rank == 0:
             gmsh.finalize()

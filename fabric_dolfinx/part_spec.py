@@ -23,7 +23,7 @@ __all__ = [
     "shape_size",
 ]
 
-SHAPES = ("rectangle", "patch", "cruciform", "plate_with_hole", "disc")
+SHAPES = ("rectangle", "patch", "cruciform", "plate_with_hole", "disc", "tube")
 """Names of the built-in shapes."""
 
 SHAPE_DIMENSIONS = {
@@ -32,6 +32,7 @@ SHAPE_DIMENSIONS = {
     "cruciform": {"width": 50.0, "arm_length": 50.0},
     "plate_with_hole": {"width": 50.0, "height": 50.0, "radius": 10.0},
     "disc": {"radius": 25.0},
+    "tube": {"radius": 10.0, "length": 50.0},
 }
 """Shape -> its dimensions (mm) with their defaults."""
 
@@ -88,6 +89,8 @@ def shape_size(spec: MeshSpec) -> float:
         return min(spec.dimension("width"), spec.dimension("height"))
     if spec.shape == "disc":
         return 2.0 * spec.dimension("radius")
+    if spec.shape == "tube":
+        return min(2.0 * spec.dimension("radius"), spec.dimension("length"))
     return spec.dimension("width") if spec.shape == "cruciform" else 50.0
 
 
@@ -161,7 +164,7 @@ def shape_points(spec: MeshSpec, count: int = 101) -> np.ndarray:
         half = spec.dimension("width") / 2
         end = half + spec.dimension("arm_length")
         box = (-end, end, -end, end)
-    elif spec.shape == "disc":
+    elif spec.shape in ("disc", "tube"):
         radius = spec.dimension("radius")
         box = (-radius, radius, -radius, radius)
     elif spec.shape == "patch":

@@ -11,6 +11,8 @@ Shapes (lengths in mm; `element_size` is the target edge length of the quadrilat
   (meshes/plate_with_hole.geo); boundaries left, right, bottom, top, hole.
 - `disc` of `radius` centred at the origin, an O-grid (a square core and four curved
   blocks); boundary rim.
+- `tube` of `radius` and `length` along z, a curved surface in space for the membrane in
+  space only (`fabric_dolfinx.surfaces3d`); boundaries bottom, top.
 
 Every shape has one region, "fabric"; a scene splits it into regions by conditions on the
 cell centres (`fabric_dolfinx.regions`), and a user's gmsh file names its own regions
@@ -26,6 +28,7 @@ from mpi4py import MPI
 
 from fabric_dolfinx.mesh import MESH_DIRECTORY, mesh_gmsh_model, read_geo
 from fabric_dolfinx.part_spec import MeshSpec, shape_size
+from fabric_dolfinx.surfaces3d import tube_mesh
 from rve_rod.errors import InputError
 
 __all__ = [
@@ -33,11 +36,14 @@ __all__ = [
 ]
 
 
-def make_mesh(spec: MeshSpec, comm: MPI.Comm = MPI.COMM_WORLD, base: Path | None = None):
-    """The TaggedMesh of `spec` (collective); a relative `file` is taken relative to `base`."""
+def make_mesh(
+    spec: MeshSpec, comm: MPI.Comm = MPI.COMM_WORLD, base: Path | None = None, *, space=False
+):
+    """The TaggedMesh of `spec` (collective); a relative `file` is taken relative to `base`.
+    With `space`, a file keeps its z coordinates (a surface in space, gdim 3)."""
     if spec.file is not None:
         path = Path(spec.file) if base is None else Path(base) / spec.file
-        return read_geo(path, comm, spec.parameters, spec.refinements)
+        return read_geo(path, comm, spec.parameters, spec.refinements, gdim=3 if space else 2)
     size = spec.element_size or shape_size(spec) / 10.0
     if spec.shape == "plate_with_hole":
         width, height = spec.dimension("width"), spec.dimension("height")
@@ -49,6 +55,8 @@ def make_mesh(spec: MeshSpec, comm: MPI.Comm = MPI.COMM_WORLD, base: Path | None
             )
         parameters = {"width": width, "height": height, "radius": radius, "size": size}
         return read_geo(MESH_DIRECTORY / "plate_with_hole.geo", comm, parameters, spec.refinements)
+    if spec.shape == "tube":
+        return tube_mesh(spec.dimension("radius"), spec.dimension("length"), size, comm=comm)
     builders: dict[str, Callable[[MeshSpec, float], None]] = {
         "rectangle": _rectangle,
         "patch": _rectangle,

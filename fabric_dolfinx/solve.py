@@ -121,17 +121,19 @@ class SolverOptions:
 
 class BoundaryIndicator(NamedTuple):
     """Functions equal to 1 at the boundary's degrees of freedom of one displacement
-    component (x, resp. y) and 0 elsewhere; the residual's action on them is the reaction."""
+    component (x, y, and z for a membrane in space) and 0 elsewhere; the residual's action on
+    them is the reaction."""
 
     x: fem.Function
     y: fem.Function
+    z: fem.Function | None = None
 
 
 def boundary_indicator(space: fem.FunctionSpace, facets: np.ndarray) -> BoundaryIndicator:
     """The BoundaryIndicator of the (local) boundary `facets` of the vector space `space`."""
     fdim = space.mesh.topology.dim - 1
     indicators = []
-    for component in range(2):
+    for component in range(space.num_sub_spaces):
         function = fem.Function(space)
         dofs = fem.locate_dofs_topological(space.sub(component), fdim, facets)
         function.x.array[dofs] = 1.0
@@ -273,12 +275,13 @@ class LoadStepper:
         return result(f"not converged in {options.max_iterations}")
 
     def reaction_forces(self) -> dict[str, np.ndarray]:
-        """Boundary name -> (Fx, Fy) N: the residual without Dirichlet rows, acting on the
-        boundary's indicator functions (equal on all ranks)."""
+        """Boundary name -> (Fx, Fy) N, or (Fx, Fy, Fz) for a membrane in space: the residual
+        without Dirichlet rows, acting on the boundary's indicator functions (equal on all
+        ranks)."""
         b = dolfinx.fem.petsc.assemble_vector(self._residual_form)
         b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
         forces = {
-            name: np.array([b.dot(indicator.x.vector), b.dot(indicator.y.vector)])
+            name: np.array([b.dot(f.vector) for f in indicator if f is not None])
             for name, indicator in self.reactions.items()
         }
         b.destroy()

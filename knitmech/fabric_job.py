@@ -14,7 +14,8 @@ It is collective under MPI; the pipeline runs it in-process on one rank, or as
 
     mpirun -n N python -m knitmech.fabric_job JOB.json FOLDER SUMMARY.json
 
-which rank 0 ends by writing the summary.
+which rank 0 ends by writing the summary. A part in space (`[space]`) runs
+`knitmech.space_job.run_space` instead.
 """
 
 import json
@@ -33,6 +34,7 @@ from fabric_dolfinx.shapes import make_mesh
 from fabric_dolfinx.solve import SolverOptions
 from knitmech.fabric_job_spec import FabricJob, RegionMaterial
 from knitmech.scene_fabric import RegionSpec
+from knitmech.space_job import run_space
 from rve_rod.errors import ConvergenceError
 from rve_rod.jsonable import to_jsonable
 from rve_rod.surface import read_surface
@@ -79,11 +81,13 @@ def run_fabric(job: FabricJob, folder: Path, comm=MPI.COMM_WORLD) -> dict:
         for part in ("figures", "paraview", "fabric"):
             (folder / part).mkdir(exist_ok=True)
     comm.barrier()
-    tagged = make_mesh(job.part.mesh, comm)
     regions = [
         _region(spec, material, index)
         for index, (spec, material) in enumerate(zip(job.part.regions, job.materials, strict=True))
     ]
+    if job.part.space is not None:
+        return run_space(job, regions[0], folder, comm)
+    tagged = make_mesh(job.part.mesh, comm)
     problem = FabricProblem(
         tagged,
         regions,

@@ -7,6 +7,7 @@ import dataclasses
 from dataclasses import dataclass
 
 from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
+from fabric_dolfinx.space_spec import IndenterSpec, SpaceSpec
 from knitmech.scene_fabric import PartSpec, RegionSpec
 from rve_rod.jsonable import to_jsonable
 
@@ -65,6 +66,7 @@ class FabricJob:
                 ),
                 boundaries=boundaries,
                 probes={k: tuple(v) for k, v in part["probes"].items()},
+                space=_space(part.get("space")),
             ),
             materials=tuple(
                 RegionMaterial(
@@ -75,3 +77,21 @@ class FabricJob:
             steps=data["steps"],
             element_degree=data["element_degree"],
         )
+
+
+def _space(data: dict | None) -> SpaceSpec | None:
+    if data is None:
+        return None
+    sphere = data["indenter"]
+    if sphere is not None:
+        sphere = IndenterSpec(
+            **{**sphere, "centre": tuple(sphere["centre"]), "travel": tuple(sphere["travel"])}
+        )
+    return SpaceSpec(
+        **{
+            **data,
+            "indenter": sphere,
+            "axis": tuple(data["axis"]),
+            "axis_point": tuple(data["axis_point"]),
+        }
+    )

@@ -209,6 +209,17 @@ def fabric_table(summary: dict) -> str:
             f"  {name:<12}{curve['kind']:<14}{force[0]:>10.4g}{force[1]:>10.4g}"
             f"{displacement[0]:>10.4g}{displacement[1]:>10.4g}"
         )
+    space = summary.get("space")
+    if space is not None and "indenter_resistance" in space:
+        lines.append(
+            f"  indenter: {space['indenter_resistance'][-1]:.4g} N at "
+            f"{space['indenter_travel'][-1]:.4g} mm travel"
+        )
+    if space is not None and "pressure" in space:
+        lines.append(
+            f"  pressure: {space['pressure'][-1]:.4g} N/mm^2, largest displacement "
+            f"{space['peak_displacement'][-1]:.4g} mm"
+        )
     outside = [name for name, flag in summary["outside_domain"].items() if flag]
     if outside:
         lines.append(f"  strains left the surface's data in: {', '.join(outside)}")

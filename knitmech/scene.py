@@ -17,6 +17,7 @@ from typing import Any
 from knitmech.fidelity import DEFAULT, LEVELS, Fidelity
 from knitmech.scene_fabric import PartSpec, part_toml, read_part
 from knitmech.scene_fabric import toml_value as _toml_value
+from knitmech.scene_space import SPACE_TABLES
 from rve_rod import limits
 from rve_rod.errors import InputError
 from rve_rod.presets import Fabric, load_preset, make_fabric
@@ -235,12 +236,12 @@ def scene_from_dict(data: dict, source: str = "<dict>", base: Path | None = None
     else:
         part = None
     for key, value in data.items():
-        if key in sections or key in ("region", "boundary", "probe"):
+        if key in sections or key in ("region", "boundary", "probe", *SPACE_TABLES):
             continue
         if key not in ("name", "fidelity"):
             problems.append(
                 f"{key}: unknown key (valid: name, fidelity, {', '.join(sections)}, region, "
-                "boundary, probe)"
+                f"boundary, probe, {', '.join(SPACE_TABLES)})"
             )
             continue
         top[key] = value

@@ -42,6 +42,8 @@ from fabric_dolfinx.part_spec import (
     shape_points,
     shape_size,
 )
+from fabric_dolfinx.space_spec import SpaceSpec
+from knitmech.scene_space import read_space, space_toml
 from rve_rod.errors import InputError
 from rve_rod.presets import load_preset, make_fabric, stitch_values
 
@@ -107,12 +109,15 @@ class PartSpec:
         boundaries: the boundary conditions.
         probes: name -> (x, y) mm, points whose cell's strain, stress and shear angle are
             recorded every step.
+        space: the membrane in space and its loads (`knitmech.scene_space`), or None for
+            the plane-stress membrane.
     """
 
     mesh: MeshSpec
     regions: tuple[RegionSpec, ...]
     boundaries: tuple[BoundaryCondition, ...]
     probes: dict[str, tuple[float, float]] = field(default_factory=dict)
+    space: SpaceSpec | None = None
 
     def resolved(self, elements: int) -> "PartSpec":
         """With the element size of a built-in shape filled in: its characteristic length
@@ -143,6 +148,7 @@ def read_part(
         ):
             if value is not None:
                 problems.append(f"{key}: needs [fabric.shape] or [fabric.mesh]")
+        read_space(data, None, problems)
         return None
     if shape is not None and mesh is not None:
         problems.append("fabric.shape, fabric.mesh: give one of them, not both")
@@ -198,9 +204,14 @@ def read_part(
                 region_specs = tuple(RegionSpec(name=name) for name in names[1]) or region_specs
             _check_names(Path(spec.file).name, names, region_specs, boundary_specs, problems)
     probes = _read_probes(data.get("probe"), problems)
+    space = read_space(data, spec, problems) if spec is not None else None
+    if space is not None and len(region_specs) > 1:
+        problems.append("region: the membrane in space takes one region for now")
+    if space is not None and probes:
+        problems.append("probe: not available for the membrane in space yet")
     if len(problems) > count or spec is None:
         return None
-    return PartSpec(spec, region_specs, boundary_specs, probes)
+    return PartSpec(spec, region_specs, boundary_specs, probes, space)
 
 
 def _read_probes(value, problems: list[str]) -> dict[str, tuple[float, float]]:
@@ -486,6 +497,7 @@ _SHAPE_BOUNDARIES = {
     "cruciform": ("left", "right", "bottom", "top", "edges"),
     "plate_with_hole": ("left", "right", "bottom", "top", "hole"),
     "disc": ("rim",),
+    "tube": ("bottom", "top"),
 }
 
 
@@ -552,4 +564,6 @@ def part_toml(part: PartSpec) -> str:
             lines.append(f"value = {boundary.value!r}")
     for name, (x, y) in part.probes.items():
         lines += ["", "[[probe]]", f"name = {toml_value(name)}", f"x = {x!r}", f"y = {y!r}"]
+    if part.space is not None:
+        lines += ["", space_toml(part.space).rstrip()]
     return "\n".join(lines) + "\n"

@@ -1,0 +1,144 @@
+"""The membrane in space in a scene: the [space] table and its loads [pressure], [indenter].
+
+    [space]                     # the fabric moves in 3D (fabric_dolfinx.membrane3d)
+    stabilization = 0.0         # N/mm^3, optional normal stabilization
+    course = "around"           # gmsh surfaces in space only: course around/along the axis
+    axis = [0.0, 0.0, 1.0]
+    axis_point = [0.0, 0.0, 0.0]
+
+    [pressure]                  # follower pressure, needs [space]
+    value = 0.02                # N/mm^2 at the end of the load path
+
+    [indenter]                  # a rigid sphere, needs [space]
+    radius = 12.7               # mm
+    centre = [0.0, 0.0, -12.7]  # mm, at the start (outside the fabric)
+    travel = [0.0, 0.0, 30.0]   # mm, the centre's displacement at the end
+    penalty = 100.0             # N/mm^3
+
+Problems go to the caller's list, one per key; no DOLFINx here. docs/scenes.md.
+"""
+
+import math
+
+from fabric_dolfinx.part_spec import MeshSpec
+from fabric_dolfinx.space_spec import COURSE_KINDS, IndenterSpec, SpaceSpec
+from rve_rod.errors import InputError
+
+__all__ = [
+    "SPACE_TABLES",
+    "read_space",
+]
+
+SPACE_TABLES = ("space", "pressure", "indenter")
+"""Top-level scene tables of the membrane in space."""
+
+
+def _unknown(prefix: str, table: dict, valid, problems: list[str]) -> None:
+    for key in table:
+        if key not in valid:
+            problems.append(f"{prefix}.{key}: unknown key (valid: {', '.join(valid)})")
+
+
+def _triple(key: str, value, problems: list[str]):
+    if (
+        not isinstance(value, list)
+        or len(value) != 3
+        or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in value)
+        or not all(math.isfinite(v) for v in value)
+    ):
+        problems.append(f"{key}: expected three numbers [x, y, z], got {value!r}")
+        return None
+    return tuple(float(v) for v in value)
+
+
+def _number(key: str, value, problems: list[str]):
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        problems.append(f"{key}: expected a number, got {value!r}")
+        return None
+    return float(value)
+
+
+def read_space(data: dict, mesh: MeshSpec | None, problems: list[str]) -> SpaceSpec | None:
+    """The SpaceSpec of parsed scene TOML, or None for a plane-stress scene.
+
+    `mesh` is the part's mesh (None when the scene has none): a tube needs [space]; a gmsh
+    file in space needs the course field.
+    """
+    space, pressure, indenter = (data.get(key) for key in SPACE_TABLES)
+    for key, value in (("space", space), ("pressure", pressure), ("indenter", indenter)):
+        if value is not None and not isinstance(value, dict):
+            problems.append(f"{key}: expected a table ([{key}])")
+            return None
+    if space is None:
+        for key, value in (("pressure", pressure), ("indenter", indenter)):
+            if value is not None:
+                problems.append(
+                    f"{key}: needs the membrane in space (add a [space] table); the "
+                    "plane-stress membrane carries in-plane loads only"
+                )
+        if mesh is not None and mesh.shape == "tube":
+            problems.append("fabric.shape.kind: a tube needs the membrane in space ([space])")
+        return None
+    if mesh is None:
+        problems.append("space: needs [fabric.shape] or [fabric.mesh]")
+        return None
+    count = len(problems)
+    valid = ("stabilization", "course", "axis", "axis_point")
+    _unknown("space", space, valid, problems)
+    values = {}
+    if "stabilization" in space:
+        values["stabilization"] = _number("space.stabilization", space["stabilization"], problems)
+    for key in ("axis", "axis_point"):
+        if key in space:
+            values[key] = _triple(f"space.{key}", space[key], problems)
+    course = space.get("course")
+    if course is not None and course not in COURSE_KINDS:
+        problems.append(f"space.course: {course!r} is not one of {', '.join(COURSE_KINDS)}")
+    if mesh.file is not None and course is None:
+        problems.append(
+            "space.course: a gmsh surface in space needs its course direction field: "
+            f"course = one of {', '.join(map(repr, COURSE_KINDS))} the axis (space.axis)"
+        )
+    if mesh.file is None and course is not None:
+        problems.append("space.course: only for a gmsh surface ([fabric.mesh])")
+    values["course"] = course
+    if pressure is not None:
+        _unknown("pressure", pressure, ("value",), problems)
+        values["pressure"] = _number("pressure.value", pressure.get("value"), problems)
+    if indenter is not None:
+        valid = ("radius", "centre", "travel", "penalty")
+        _unknown("indenter", indenter, valid, problems)
+        sphere = {key: indenter.get(key) for key in valid if key in indenter}
+        for key in ("centre", "travel"):
+            sphere[key] = _triple(f"indenter.{key}", indenter.get(key), problems)
+        for key in ("radius", "penalty"):
+            if key in indenter:
+                sphere[key] = _number(f"indenter.{key}", indenter[key], problems)
+        if len(problems) == count:
+            try:
+                values["indenter"] = IndenterSpec(**sphere)
+            except (InputError, TypeError) as error:
+                problems.append(f"indenter: {error}")
+    if len(problems) > count:
+        return None
+    try:
+        return SpaceSpec(**values)
+    except InputError as error:
+        problems.append(f"space: {error}")
+        return None
+
+
+def space_toml(space: SpaceSpec) -> str:
+    """TOML text of `space` ([space], [pressure], [indenter]) that `read_space` reads back."""
+    lines = ["[space]", f"stabilization = {space.stabilization!r}"]
+    if space.course is not None:
+        lines.append(f'course = "{space.course}"')
+    lines += [f"axis = {list(space.axis)!r}", f"axis_point = {list(space.axis_point)!r}"]
+    if space.pressure:
+        lines += ["", "[pressure]", f"value = {space.pressure!r}"]
+    if space.indenter is not None:
+        sphere = space.indenter
+        lines += ["", "[indenter]", f"radius = {sphere.radius!r}"]
+        lines += [f"centre = {list(sphere.centre)!r}", f"travel = {list(sphere.travel)!r}"]
+        lines.append(f"penalty = {sphere.penalty!r}")
+    return "\n".join(lines) + "\n"

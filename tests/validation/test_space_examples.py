@@ -1,0 +1,71 @@
+"""The examples in space run through `knitmech run` at the fast level.
+
+* ball burst (ASTM D3787 geometry, the shipped cotton surface, the fast level's mesh with a
+  node at the centre): the fabric lies on the ball, so its apex rises with the ball's travel
+  (12 mm, to the ball's sag over the central element); the force on the ball equals the ring
+  clamp's vertical reaction in every step solved without the stabilization (all but the
+  first); it grows with the travel.
+* a diaphragm burst pushed beyond what the coarse mesh can follow: the solver gives up, the
+  converged steps are kept in the results and the command exits with status 3.
+"""
+
+import json
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from knitmech.cli import main
+from knitmech.pipeline import run_scene
+from knitmech.scene import scene_from_dict
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+@pytest.mark.slow
+def test_ball_burst_fabric_follows_the_ball_and_balances_the_clamp(tmp_path):
+    data = tomllib.loads((EXAMPLES / "ball_burst.toml").read_text())
+    # 6 elements per quarter of the rim (an even count): a node at the centre, the apex
+    data["fabric"]["shape"]["element_size"] = 5.8
+    scene = scene_from_dict(data, source="ball_burst", base=EXAMPLES)
+    result = run_scene(scene, fidelity="fast", output=tmp_path / "out", cache_dir=tmp_path / "c")
+    part = result.summary["part"]
+    assert part["complete"], part["message"]
+    space = part["space"]
+    travel = np.array(space["indenter_travel"])
+    force = np.array(space["indenter_resistance"])
+    assert travel[-1] == pytest.approx(12.0, rel=1e-12)
+    # the apex on the ball: contact acts at the quadrature points, so the apex node may lie
+    # below the ball's top by up to its sag over the central element, h^2 / (8 R)
+    sag = 5.8**2 / (8 * 12.7)
+    assert 12.0 - sag < space["peak_displacement"][-1] < 12.0
+    # the stabilization carries the first step off the flat state only: every later step
+    # is released (solved without it), and there the clamp alone balances the ball
+    stabilization = np.array(space["stabilization_force"])
+    assert stabilization[1] > 0.0
+    assert np.all(stabilization[2:] == 0.0)
+    clamp = np.array(space["reactions"]["rim"])[:, 2]
+    np.testing.assert_allclose(force[2:], -clamp[2:], rtol=0, atol=1e-5 * force[-1])
+    assert np.all(np.diff(force[2:]) >= 0.0)
+    assert 1.0 < force[-1] < 5.0
+    curves = json.loads((tmp_path / "out" / "fabric" / "curves.json").read_text())
+    assert curves["indenter_resistance"] == pytest.approx(list(force))
+    assert (tmp_path / "out" / "figures" / "fabric_indenter.png").is_file()
+
+
+@pytest.mark.slow
+def test_a_solver_that_gives_up_keeps_the_converged_steps_and_exits_3(tmp_path, capsys):
+    text = (EXAMPLES / "diaphragm_burst.toml").read_text()
+    text = text.replace("value = 0.004", "value = 0.05").replace("steps = 10", "steps = 4")
+    text = text.replace('"../knitmech/data/', f'"{EXAMPLES.parent}/knitmech/data/')
+    scene = tmp_path / "burst.toml"
+    scene.write_text(text)
+    output = tmp_path / "out"
+    command = ["run", str(scene), "-o", str(output), "--fidelity", "fast"]
+    assert main([*command, "--cache-dir", str(tmp_path / "cache"), "-q"]) == 3
+    assert "INCOMPLETE: Newton failed" in capsys.readouterr().out
+    curves = json.loads((output / "fabric" / "curves.json").read_text())
+    pressure = np.array(curves["pressure"])
+    assert 0.0 < pressure[-1] < 0.05
+    assert len(curves["peak_displacement"]) == pressure.size > 2

@@ -1,0 +1,122 @@
+"""The membrane in space under in-plane loads equals the plane membrane to round-off, and its
+consistent tangent: ufl.derivative, central differences and quadratic Newton convergence."""
+
+import dolfinx.fem.petsc
+import numpy as np
+import pytest
+import ufl
+from dolfinx import fem
+from surface_cases import synthetic_surface
+
+from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
+from fabric_dolfinx.membrane3d import flat_frame, membrane3d_forms, pressure_residual
+from fabric_dolfinx.membrane3d_solve import Membrane3DProblem, Support
+from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
+from fabric_dolfinx.regions import Region
+from fabric_dolfinx.scene_solve import FabricProblem
+from fabric_dolfinx.shapes import make_mesh
+from fabric_dolfinx.solve import SolverOptions
+
+SURFACE = surface_material(synthetic_surface())
+SVK = svk_material(OrthotropicSVK(1.0, 0.5, 0.3, 0.2))
+
+
+@pytest.mark.parametrize("material", [SVK, SURFACE], ids=["svk", "surface"])
+def test_in_plane_loading_equals_the_plane_membrane(material):
+    """A plate with a hole, course at 30 degrees, clamped left and pulled right by (5, 1) mm:
+    reactions and displacements of the plane membrane, with z staying exactly 0."""
+    tagged = make_mesh(MeshSpec("plate_with_hole", {"radius": 8.0}, element_size=8.0))
+    options = SolverOptions(steps=3)
+    angle = np.radians(30.0)
+    plane = FabricProblem(
+        tagged,
+        [Region("fabric", material, angle=30.0)],
+        [BoundaryCondition("left", "clamp"), BoundaryCondition("right", "displacement", (5, 1))],
+        options=options,
+    )
+    expected = plane.run()
+    space = Membrane3DProblem(
+        tagged,
+        material,
+        [Support("left"), Support("right", displacement=(5.0, 1.0, 0.0))],
+        angle=angle,
+        stabilization=1e-3,
+        options=options,
+    )
+    result = space.run()
+    displacement = space.u.x.array.reshape(-1, 3)
+    assert np.all(displacement[:, 2] == 0.0)
+    np.testing.assert_allclose(
+        displacement[:, :2].ravel(),
+        plane.u.x.array,
+        rtol=0,
+        atol=1e-12 * np.abs(plane.u.x.array).max(),
+    )
+    for name in ("left", "right"):
+        force = result.reactions[name]
+        assert np.all(force[:, 2] == 0.0)
+        np.testing.assert_allclose(
+            force[:, :2], expected.boundaries[name].force, rtol=1e-10, atol=1e-12
+        )
+    assert np.all(result.stabilization_force == 0.0)
+    assert expected.boundaries["right"].force[-1, 0] > 0.3
+
+
+def dome_state(material):
+    """A disc clamped at its rim under pressure, and its converged state (a tension field)."""
+    tagged = make_mesh(MeshSpec("disc", {"radius": 20.0}, element_size=5.0))
+    problem = Membrane3DProblem(
+        tagged, material, [Support("rim")], angle=0.4, pressure=2e-3, options=SolverOptions(steps=1)
+    )
+    return problem, problem.run()
+
+
+def assembled(residual, jacobian):
+    vector = dolfinx.fem.petsc.assemble_vector(fem.form(residual))
+    vector.ghostUpdate()
+    matrix = dolfinx.fem.petsc.assemble_matrix(fem.form(jacobian))
+    matrix.assemble()
+    return vector.array.copy(), matrix.convert("dense").getDenseArray()
+
+
+@pytest.mark.parametrize("material", [SVK, SURFACE], ids=["svk", "surface"])
+def test_tangent_is_the_derivative_of_the_residual(material):
+    """The split elastic tangent equals ufl.derivative (round-off); with the follower
+    pressure the Jacobian matches central differences of the residual."""
+    problem, _ = dome_state(material)
+    u = problem.u
+    frame = flat_frame(u.function_space.mesh, 0.4)
+    forms = membrane3d_forms(u, material.law, frame, 2)
+    derivative = ufl.derivative(forms.residual, u, ufl.TrialFunction(u.function_space))
+    split = assembled(forms.residual, forms.jacobian)[1]
+    full = assembled(forms.residual, derivative)[1]
+    assert np.abs(split - full).max() <= 1e-12 * np.abs(full).max()
+    pressure = fem.Constant(u.function_space.mesh, 2e-3)
+    residual = forms.residual - pressure_residual(
+        u, pressure, frame, ufl.dx(metadata={"quadrature_degree": 2})
+    )
+    jacobian = ufl.derivative(residual, u, ufl.TrialFunction(u.function_space))
+    _, matrix = assembled(residual, jacobian)
+    state = u.x.array.copy()
+    direction = np.random.default_rng(4).normal(size=state.size) * 0.05
+    step = 1e-6
+    values = []
+    for sign in (1.0, -1.0):
+        u.x.array[:] = state + sign * step * direction
+        values.append(assembled(residual, jacobian)[0])
+    u.x.array[:] = state
+    difference = (values[0] - values[1]) / (2 * step)
+    action = matrix @ direction
+    assert np.linalg.norm(difference - action) <= 1e-6 * np.linalg.norm(action)
+
+
+def test_newton_converges_quadratically_from_the_dome():
+    """One pressure step from the flat disc: after the one-mode dome, e_(k+1) <= C e_k^2."""
+    _, result = dome_state(SURFACE)
+    assert result.dome_amplitude > 0.0
+    norms = np.array(result.path.steps[0].residual_norms)
+    relative = norms / norms[0]
+    assert relative[-1] < 1e-10
+    tail = relative[1:]
+    order = np.log(tail[-1] / tail[-2]) / np.log(tail[-2] / tail[-3])
+    assert order > 1.8
