@@ -36,8 +36,7 @@ from rve_rod.homogenize.sampling import SamplingPlan
 from rve_rod.jsonable import to_jsonable
 from rve_rod.presets import Fabric
 from rve_rod.rve import RodRve, RveSettings, load_case, simulate
-from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.yarn import YarnSettings
+from rve_rod.rve.engine import fabric_settings
 from rve_rod.surface import read_surface, softest_normal_tangents, write_surface
 from rve_rod.vtk import write_vtk
 
@@ -109,11 +108,7 @@ def plan_run(scene: Scene, level: Fidelity) -> RunPlan:
     """Resolve `scene` with `level` into the settings of every stage."""
     scene = scene.resolved(level)
     fabric = scene.fabric_model()
-    rve = RveSettings(
-        cell=CellSettings(control_points=scene.meso.control_points),
-        # a frictionless yarn skips the friction path altogether
-        yarn=YarnSettings(friction=fabric.yarn.friction_coefficient > 0.0),
-    )
+    rve = fabric_settings(fabric, scene.meso.control_points)
     sampling = SamplingPlan(
         rays=scene.surface.rays,
         max_tension=scene.surface.max_strain,
