@@ -254,3 +254,23 @@ def test_a_yarn_radius_cut_to_w_over_8_is_said():
     message = "yarn_radius=5 mm is larger than wale_width/8: the model uses r = w/8 = 0.1663 mm"
     assert message in run.stderr
     assert "yarn radius        0.1663 mm (adjusted to w/8)" in run.stdout
+
+
+def test_reliability_doc_lists_every_row():
+    """docs/reliability.md shows the bad-input table: every row of TABLE and CHECKED, with its
+    exit status and the words of its message."""
+    lines = (Path(__file__).resolve().parents[2] / "docs" / "reliability.md").read_text()
+    lines = lines.splitlines()
+    rows = [
+        (f"{tool} {arguments}", scene, status, words)
+        for tool, arguments, scene, status, words in TABLE
+    ]
+    rows += [(f"rve-rod {arguments}", None, status, words) for arguments, status, words in CHECKED]
+    for command, scene, status, words in rows:
+        if scene is None:
+            start = f"| `{command}` | {status} | "
+        else:
+            cell = f"`{scene.replace(chr(10), '; ')}`" if scene else ""
+            start = f"| `{command}` | {cell} | {status} | "
+        found = [line for line in lines if line.startswith(start) and words in line]
+        assert found, f"docs/reliability.md has no row {start}... {words}"
