@@ -69,7 +69,7 @@ TABLE = [
     ("fabric-dolfinx", f"{SVK} --plot {{dir}}", "", 2, "--plot {dir}: is a folder"),
     ("fabric-dolfinx", "tension --svk -1,2,0.3,1", "", 2, "course_stiffness=-1 N/mm must be > 0"),
     # hangs and runaway resources before
-    ("rve-rod", f"simulate {FABRIC} --control-points 100000", "", 2, "[20, 400]"),
+    ("rve-rod", f"simulate {FABRIC} --control-points 100000", "", 2, "[20, 300]"),
     ("rve-rod", f"simulate {FABRIC} --steps 1000000", "", 2, "steps=1000000 is outside"),
     ("rve-rod", f"surface {FABRIC} -o s.h5 --rays 1000000", "", 2, "--rays=1000000 is outside"),
     ("rve-rod", f"surface {FABRIC} -o s.h5 --steps 100000", "", 2, "steps_per_ray=100000"),

@@ -99,7 +99,7 @@ def test_a_run_beyond_the_penetration_limit_stops_at_it(capsys, caplog):
     [
         (["--max-strain", "1.5"], "max_strain=1.5 is outside the valid range"),
         (["--steps", "1"], "steps=1 is outside the valid range"),
-        (["--control-points", "8"], "--control-points=8 is outside the valid range [20, 400]"),
+        (["--control-points", "8"], "--control-points=8 is outside the valid range [20, 300]"),
         (["--penetration-limit", "2"], "penetration_limit=2 is outside the valid range (0, 2)"),
     ],
 )
