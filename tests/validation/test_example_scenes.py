@@ -28,11 +28,11 @@ import pytest
 
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import TensionSetup, homogeneous_response
+from fabric_dolfinx.tension import TensionSetup
 from fabric_dolfinx.tension_spec import TensionTest
 from knitmech.pipeline import run_scene
 from knitmech.scene import load_scene, scene_from_dict
-from rve_rod.surface import read_surface
+from rve_rod.surface import homogeneous_response, read_surface
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 SCENES = sorted(EXAMPLES.glob("*.toml"))
