@@ -345,6 +345,20 @@ def _macro_compute(job: PatchJob, surface_path: Path, ranks: int):
 MPI_STOP_TIMEOUT_S = 10.0
 """Seconds mpirun and its ranks get to end after SIGTERM before they are killed."""
 
+MPI_JOB_VARIABLES = (
+    "PMIX_",
+    "ORTE_",
+    "OMPI_MCA_ess",
+    "OMPI_MCA_orte_",
+    "OMPI_MCA_pmix",
+    "OMPI_APP_CTX_",
+    "OMPI_COMM_WORLD_",
+)
+"""Prefixes of the environment variables of a running MPI job (set by its mpirun, or by Open
+MPI for a process that initialized MPI alone): an `mpirun` started with them inherited exits
+with 1 and no message, so the macro stage's mpirun does not get them. Such a parent is e.g. a
+Python process that imported DOLFINx and then ran `knitmech run` (the test suite)."""
+
 
 def _run_group(command: list[str], environment: dict) -> tuple[int, str]:
     """Run `command` in a process group of its own; returns its exit status and stderr.
@@ -396,7 +410,7 @@ def _run_patch_mpi(job: PatchJob, surface_path: Path, folder: Path, ranks: int) 
         str(summary_path),
     ]
     environment = {
-        **os.environ,
+        **{k: v for k, v in os.environ.items() if not k.startswith(MPI_JOB_VARIABLES)},
         "OMPI_ALLOW_RUN_AS_ROOT": "1",
         "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
         "OMPI_MCA_rmaps_base_oversubscribe": "1",
