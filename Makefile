@@ -7,13 +7,17 @@ export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
 export OMPI_MCA_rmaps_base_oversubscribe := 1
 export MPLBACKEND := Agg
 
-.PHONY: demo test lint format bootstrap
+.PHONY: demo figures test lint format bootstrap
 
 bootstrap:
 	@scripts/bootstrap.sh
 
 demo: bootstrap
 	$(BIN)/knitmech run -o results
+
+# the docs' figures and printed table of the default scene, from the current code (empty cache)
+figures: bootstrap
+	$(BIN)/python scripts/docs_figures.py
 
 lint: bootstrap
 	$(BIN)/ruff check .

@@ -25,6 +25,8 @@ def plot_force_strain(
     rve: RVECurve | None = None,
     comm=None,
     references: Mapping[str, tuple[np.ndarray, np.ndarray]] | None = None,
+    *,
+    title: str = "",
 ) -> None:
     """Force per width (gf/cm) against nominal strain (%) for each labelled curve.
 
@@ -33,6 +35,7 @@ def plot_force_strain(
         rve: the RVE's uniaxial curve, drawn beside the membrane curves when given.
         comm: only its rank 0 writes (None: the calling process writes).
         references: further curves drawn as thin dashed lines (e.g. the material alone).
+        title: the figure's title (e.g. the fabric and the test), none if empty.
     """
     if comm is not None and comm.rank != 0:
         return
@@ -47,6 +50,8 @@ def plot_force_strain(
     axes.set_ylabel("force per width (gf/cm)")
     axes.grid(alpha=0.3)
     axes.legend(frameon=False)
+    if title:
+        axes.set_title(title, fontsize=9)
     figure.tight_layout()
     figure.savefig(path)
     plt.close(figure)

@@ -237,7 +237,8 @@ def run_scene(
     )
     if macro or meso:
         (folder / "figures").mkdir(exist_ok=True)
-        plot_comparison(meso, macro, folder / "figures" / "force_strain.png")
+        title = f"{plan.scene.name} (fidelity {plan.fidelity.name})"
+        plot_comparison(meso, macro, folder / "figures" / "force_strain.png", title)
         written.append("figures/force_strain.png")
     timings = stage_timings(records)
     timings["report"] = time.perf_counter() - report_started

@@ -164,9 +164,13 @@ def summary_table(summary: dict) -> str:
 
 
 def plot_comparison(
-    meso: Mapping[str, MesoSummary], macro: Mapping[str, PatchSummary], path: Path
+    meso: Mapping[str, MesoSummary],
+    macro: Mapping[str, PatchSummary],
+    path: Path,
+    title: str = "",
 ) -> None:
-    """Force-strain of the patch (markers) and of the RVE (dashed), as the paper's Fig. 8a."""
+    """Force-strain of the patch (markers) and of the RVE (dashed), as the paper's Fig. 8a,
+    titled `title` (the scene's name and level)."""
     from fabric_dolfinx.plot import plot_force_strain  # noqa: PLC0415 (matplotlib on demand)
 
     curves = {
@@ -180,4 +184,4 @@ def plot_comparison(
         for d, case in DIRECTION_CASES.items()
         if case in meso
     }
-    plot_force_strain(curves, path, references=references)
+    plot_force_strain(curves, path, references=references, title=title)

@@ -17,7 +17,8 @@ from rve_rod.homogenize.generate import GenerationError, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
 from rve_rod.limits import check_count
 from rve_rod.outputs import check_output_file, check_output_folder
-from rve_rod.rve.engine import surface_engine
+from rve_rod.rve.cell import CellSettings
+from rve_rod.rve.engine import fabric_settings, surface_engine
 from rve_rod.surface import (
     STRESS_GROUPS,
     ResponseSurface,
@@ -56,6 +57,30 @@ def register(subparsers) -> None:
     parser.add_argument(
         "--steps", type=int, default=defaults.steps_per_ray, help="output steps per ray"
     )
+    parser.add_argument(
+        "--shear-steps", type=int, default=defaults.shear_steps, help="output steps of the shear"
+    )
+    parser.add_argument(
+        "--max-strain",
+        type=float,
+        default=defaults.max_tension,
+        help="largest tensile strain of a ray component (the sampled domain's upper end)",
+    )
+    parser.add_argument(
+        "--control-points",
+        type=int,
+        default=CellSettings().control_points,
+        help=f"control points per quarter loop of every RVE run, {limits.CONTROL_POINTS[0]} to "
+        f"{limits.CONTROL_POINTS[1]} (the periodic yarn curve has about 4 times as many)",
+    )
+    parser.add_argument(
+        "--spans",
+        type=int,
+        help="knot spans per input of the S11, S22 fit (default: from the samples)",
+    )
+    parser.add_argument(
+        "--shear-spans", type=int, help="knot spans of the S12 fit (default: from the samples)"
+    )
     add_executor_argument(parser)
     parser.add_argument(
         "--jobs", type=int, default=1, help="local worker processes (default 1; not for mpi)"
@@ -87,16 +112,23 @@ def run_surface(args: argparse.Namespace) -> int:
         check_output_file("--plot", args.plot)
     cache_dir = check_output_folder("--cache-dir", args.cache_dir) if args.cache_dir else None
     check_count("--rays", args.rays, limits.RAYS)
+    check_count("--control-points", args.control_points, limits.CONTROL_POINTS)
     fabric = fabric_from_args(args)
-    plan = SamplingPlan(rays=args.rays, steps_per_ray=args.steps)
-    engine = surface_engine()
+    plan = SamplingPlan(
+        rays=args.rays,
+        steps_per_ray=args.steps,
+        shear_steps=args.shear_steps,
+        max_tension=args.max_strain,
+    )
+    fit = FitOptions(spans=args.spans, shear_spans=args.shear_spans)
+    engine = surface_engine(fabric_settings(fabric, args.control_points))
     cache = ResultCache(cache_dir or default_runs_dir())
     try:
         generated = generate_surface(
             fabric,
             engine,
             plan,
-            FitOptions(),
+            fit,
             kind="energy" if args.energy else "stress",
             cache=cache,
             executor=args.executor,

@@ -20,10 +20,11 @@ def plot_loop(geometry: LoopGeometry, path: str | Path) -> Path:
     (blue) among its neighbours (grey), with the periodic cell outlined."""
     w, c, r = geometry.wale_width, geometry.course_height, geometry.yarn_radius
     pieces = loop_polylines(geometry)
-    figure = plt.figure(figsize=(14, 5.0))
-    view = figure.add_subplot(1, 3, 1, projection="3d")
-    face = figure.add_subplot(1, 3, 2)
-    side = figure.add_subplot(1, 3, 3)
+    figure = plt.figure(figsize=(15, 5.2))
+    grid = figure.add_gridspec(1, 3, width_ratios=(1.3, 1.0, 1.0), wspace=0.35)
+    view = figure.add_subplot(grid[0], projection="3d")
+    face = figure.add_subplot(grid[1])
+    side = figure.add_subplot(grid[2])
     # line width in points so that it shows the yarn diameter at the face view's scale
     width = 2 * r * 72 * 4.0 / (3 * w)
     for (i, j), points in pieces:
@@ -54,13 +55,27 @@ def plot_loop(geometry: LoopGeometry, path: str | Path) -> Path:
         ylabel="z (mm)",
         title="side (y/z), one wale",
     )
-    view.set(xlabel="x", ylabel="y", zlabel="z", title="3D")
-    view.set_box_aspect((3 * w, 3 * c, max(4 * geometry.depth, w)))
+    # true scale: the box has the extents of what it shows (no exaggerated depth)
+    heights = np.concatenate([points[:, 2] for _, points in pieces])
+    low, high = float(heights.min()), float(heights.max())
+    view.set(
+        xlim=(-1.5 * w, 1.5 * w),
+        ylim=(-1.5 * c, 1.5 * c),
+        zlim=(low, high),
+        xlabel="x (mm)",
+        ylabel="y (mm)",
+        title="3D, true scale",
+    )
+    view.set_zticks([round(low, 2), round(high, 2)])
+    side.set(ylim=(low - r, high + r), yticks=[round(low, 2), round(high, 2)])
+    view.set_zlabel("z (mm)", labelpad=6)
+    view.view_init(elev=35, azim=-60)
+    view.set_box_aspect((3 * w, 3 * c, high - low))
     figure.suptitle(
         f"single-jersey loop: w = {w:.3g} mm, c = {c:.3g} mm, r = {r:.3g} mm, "
         f"loop length {geometry.loop_length:.3f} mm"
     )
-    figure.subplots_adjust(left=0.02, right=0.98, wspace=0.3)
+    figure.subplots_adjust(left=0.0, right=0.98)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     figure.savefig(path, dpi=90)

@@ -20,10 +20,10 @@ def plot_surface(surface: ResponseSurface, path: str | Path, points_per_axis: in
     x, y = np.meshgrid(np.linspace(x0, x1, points_per_axis), np.linspace(y0, y1, points_per_axis))
     grid = np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
     stress = surface.stress(grid).S
-    figure = Figure(figsize=(13.5, 4.2))
+    figure = Figure(figsize=(15.0, 5.4))
     for column, name in enumerate(("S11", "S22")):
         axes = figure.add_subplot(1, 3, column + 1, projection="3d")
-        axes.plot_surface(
+        drawn = axes.plot_surface(
             x, y, stress[:, column].reshape(x.shape), cmap="viridis", alpha=0.75, linewidth=0
         )
         samples = surface.samples.get(name)
@@ -31,7 +31,12 @@ def plot_surface(surface: ResponseSurface, path: str | Path, points_per_axis: in
             axes.scatter(samples.inputs[:, 0], samples.inputs[:, 1], samples.values, color="k", s=6)
         axes.set_xlabel("E11")
         axes.set_ylabel("E22")
-        axes.set_title(f"{name} (N/mm)")
+        axes.set_zlabel(f"{name} (N/mm)", labelpad=12)
+        axes.tick_params(axis="z", pad=6)
+        axes.set_title(f"{name}(E11, E22), samples in black")
+        figure.colorbar(
+            drawn, ax=axes, orientation="horizontal", shrink=0.6, pad=0.08, label=f"{name} (N/mm)"
+        )
     axes = figure.add_subplot(1, 3, 3)
     shear = np.linspace(g0, g1, 201)
     strains = np.stack([np.zeros_like(shear), np.zeros_like(shear), shear], axis=1)
@@ -44,6 +49,6 @@ def plot_surface(surface: ResponseSurface, path: str | Path, points_per_axis: in
     axes.set_title(f"S12 ({surface.kind} fit)")
     axes.grid(alpha=0.3)
     axes.legend()
-    figure.tight_layout()
+    figure.subplots_adjust(left=0.01, right=0.97, bottom=0.1, top=0.92, wspace=0.35)
     figure.savefig(path, dpi=90)
     return path

@@ -1,16 +1,22 @@
-"""The rod RVE as the homogenization's engine: `surface_engine()` returns a picklable
+"""The rod RVE as the homogenization's engine: `surface_engine(settings)` returns a picklable
 `run(RveCase) -> RveRun` (see rve_rod.homogenize.samples) that follows a biaxial ray or the
-pure-shear path of the sampling plan on the loop cell."""
+pure-shear path of the sampling plan on the loop cell; `fabric_settings` gives the settings
+the pipeline's levels and `rve-rod surface` use for a fabric (so that the two share cached
+runs)."""
 
 from dataclasses import dataclass, field
 
 from rve_rod.errors import ConvergenceError
 from rve_rod.homogenize.samples import RveCase, RveRun
+from rve_rod.presets import Fabric
+from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase, Shear
 from rve_rod.rve.simulation import RveSettings, simulate
+from rve_rod.rve.yarn import YarnSettings
 
 __all__ = [
     "RodRve",
+    "fabric_settings",
     "path_case",
     "surface_engine",
 ]
@@ -44,6 +50,16 @@ class RodRve:
         return result.to_rve_run()
 
 
-def surface_engine() -> RodRve:
-    """The engine `rve-rod surface` uses: the rod RVE with default settings."""
-    return RodRve()
+def fabric_settings(fabric: Fabric, control_points: int) -> RveSettings:
+    """The RVE settings of every run for `fabric` (meso runs and surface runs alike):
+    `control_points` per quarter loop curve; a yarn without friction (mu = 0) runs without
+    the friction path (no slip history), everything else at its default."""
+    return RveSettings(
+        cell=CellSettings(control_points=control_points),
+        yarn=YarnSettings(friction=fabric.yarn.friction_coefficient > 0.0),
+    )
+
+
+def surface_engine(settings: RveSettings | None = None) -> RodRve:
+    """The engine `rve-rod surface` uses: the rod RVE with `settings` (default: defaults)."""
+    return RodRve(settings if settings is not None else RveSettings())

@@ -3,6 +3,7 @@ at a coarse resolution."""
 
 import json
 import logging
+import re
 from xml.etree import ElementTree
 
 import meshio
@@ -52,6 +53,10 @@ def test_report_without_json(capsys):
     assert main([*ARGS, "--case", "uniaxial-wale", "--frictionless"]) == 0
     out = capsys.readouterr().out
     assert out.startswith("uniaxial-wale: yarn radius 0.16 mm")
+    # --control-points counts per quarter loop; the run says so and gives the joined curve's
+    # count (the four quarters share their end points: fewer than 4 x 24, more than 3 x 24)
+    said = re.search(r"24 control points per quarter loop \((\d+) on the periodic curve\)", out)
+    assert said and 3 * 24 < int(said.group(1)) < 4 * 24
     assert "Poisson ratio" in out and "Newton iterations" in out
 
 
@@ -99,7 +104,7 @@ def test_a_run_beyond_the_penetration_limit_stops_at_it(capsys, caplog):
     [
         (["--max-strain", "1.5"], "max_strain=1.5 is outside the valid range"),
         (["--steps", "1"], "steps=1 is outside the valid range"),
-        (["--control-points", "8"], "--control-points=8 is outside the valid range [20, 400]"),
+        (["--control-points", "8"], "--control-points=8 is outside the valid range [20, 300]"),
         (["--penetration-limit", "2"], "penetration_limit=2 is outside the valid range (0, 2)"),
     ],
 )

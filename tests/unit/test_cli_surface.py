@@ -15,7 +15,7 @@ ARGS = ["surface", "--preset", "cotton-20s2", "--stitch", "5.5", "--rays", "16",
 
 
 def test_surface_with_an_engine_writes_file_plot_and_reports(tmp_path, monkeypatch, capsys):
-    monkeypatch.setattr(cli_surface, "surface_engine", AnalyticRve)
+    monkeypatch.setattr(cli_surface, "surface_engine", lambda settings: AnalyticRve())
     output, plot = tmp_path / "surface.h5", tmp_path / "surfaces.png"
     arguments = [*ARGS, "-o", str(output), "--energy", "--jobs", "2", "--plot", str(plot)]
     assert main([*arguments, "--cache-dir", str(tmp_path / "cache")]) == 0
@@ -32,7 +32,7 @@ def test_surface_with_an_engine_writes_file_plot_and_reports(tmp_path, monkeypat
 
 
 def test_surface_info_text_and_json(tmp_path, monkeypatch, capsys):
-    monkeypatch.setattr(cli_surface, "surface_engine", AnalyticRve)
+    monkeypatch.setattr(cli_surface, "surface_engine", lambda settings: AnalyticRve())
     output = tmp_path / "surface.h5"
     main([*ARGS, "-o", str(output), "--cache-dir", str(tmp_path / "cache")])
     capsys.readouterr()

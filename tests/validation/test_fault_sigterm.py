@@ -55,6 +55,13 @@ def processes_mentioning(text: str) -> list[str]:
     return found
 
 
+def ended_early(run: subprocess.Popen) -> str:
+    """Why the run is not where the test waits for it: its status and stderr."""
+    if run.poll() is None:
+        return "still running past the deadline"
+    return f"exit {run.returncode} before SIGTERM: {run.stderr.read()}"
+
+
 @pytest.mark.skipif(shutil.which("mpirun") is None, reason="needs mpirun")
 def test_sigterm_in_the_mpi_macro_stage_leaves_nothing_and_the_rerun_resumes(tmp_path):
     scene = tmp_path / "scene.toml"
@@ -62,19 +69,13 @@ def test_sigterm_in_the_mpi_macro_stage_leaves_nothing_and_the_rerun_resumes(tmp
     results, cache = tmp_path / "results", tmp_path / "cache"
     command = [KNITMECH, "run", str(scene), "-o", str(results), "--cache-dir", str(cache), "-q"]
     run = subprocess.Popen(command, stderr=subprocess.PIPE, text=True, start_new_session=True)
-    deadline = time.monotonic() + 300
-
-    def still_running():
-        if run.poll() is not None:
-            pytest.fail(f"ended with {run.returncode} before the signal: {run.stderr.read()}")
-        assert time.monotonic() < deadline
-
     try:
+        deadline = time.monotonic() + 300
         while not list(results.glob(".stage-*/.patch.json")):  # the macro stage has begun
-            still_running()
+            assert run.poll() is None and time.monotonic() < deadline, ended_early(run)
             time.sleep(0.2)
         while not processes_mentioning(f"{results}/.stage-"):  # mpirun has started
-            still_running()
+            assert run.poll() is None and time.monotonic() < deadline, ended_early(run)
             time.sleep(0.2)
         time.sleep(2.0)  # the ranks are starting up or solving
         run.send_signal(signal.SIGTERM)
@@ -96,3 +97,26 @@ def test_sigterm_in_the_mpi_macro_stage_leaves_nothing_and_the_rerun_resumes(tmp
         "surface": "given",
         "macro": "computed",
     }
+
+
+@pytest.mark.skipif(shutil.which("mpirun") is None, reason="needs mpirun")
+def test_the_mpi_macro_stage_runs_from_a_process_that_initialized_mpi(tmp_path):
+    """A parent that initialized MPI alone (e.g. imported DOLFINx) leaves Open MPI's job
+    variables in the environment; an mpirun that inherits them exits 1 without a word. The
+    macro stage must not pass them on (knitmech.stages.MPI_JOB_VARIABLES)."""
+    scene = tmp_path / "scene.toml"
+    scene.write_text(SCENE.format(surface=default_surface_path()).replace("steps = 4", "steps = 1"))
+    command = [KNITMECH, "run", str(scene), "-o", str(tmp_path / "results")]
+    command += ["--cache-dir", str(tmp_path / "cache"), "-q", "--json"]
+    parent = (
+        "import subprocess, sys\n"
+        "from mpi4py import MPI\n"
+        "assert MPI.COMM_WORLD.size == 1\n"
+        f"sys.exit(subprocess.run({command!r}, stdout=subprocess.DEVNULL).returncode)\n"
+    )
+    run = subprocess.run(
+        [sys.executable, "-c", parent], capture_output=True, text=True, timeout=600, check=False
+    )
+    assert run.returncode == 0, run.stderr
+    summary = json.loads((tmp_path / "results" / "summary.json").read_text())
+    assert summary["macro"]["course"]["ranks"] == 2
