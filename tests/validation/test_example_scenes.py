@@ -35,8 +35,8 @@ from knitmech.scene import load_scene, scene_from_dict
 from rve_rod.surface import homogeneous_response, read_surface
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-SCENES = sorted(p for p in EXAMPLES.glob("*.toml") if not p.name.startswith("sweep_"))
-"""The example scenes (sweep files, `knitmech sweep`, are checked in tests/unit/test_sweep.py)."""
+SCENES = sorted(EXAMPLES.glob("*.toml"))
+"""The example scenes (the sweep files in examples/sweeps/ are checked in tests/unit/test_sweep.py)."""
 
 
 @pytest.fixture(scope="module")
