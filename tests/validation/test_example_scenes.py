@@ -36,7 +36,7 @@ from rve_rod.surface import homogeneous_response, read_surface
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 SCENES = sorted(EXAMPLES.glob("*.toml"))
-"""The example scenes (the sweep files in examples/sweeps/ are checked in tests/unit/test_sweep.py)."""
+"""The example scenes (examples/sweeps/ holds sweep files: tests/unit/test_sweep.py)."""
 
 
 @pytest.fixture(scope="module")
