@@ -166,7 +166,14 @@ def read_part(
         for index, region in enumerate(region_specs)
     )
     for index, region in enumerate(region_specs):
-        if region.graded_stitch is None and region.knit and None not in region.knit.values():
+        # a region whose preset or stitch was refused already is not reported twice
+        reported = any(problem.startswith(f"region[{index}]") for problem in problems)
+        if (
+            not reported
+            and region.graded_stitch is None
+            and region.knit
+            and None not in region.knit.values()
+        ):
             try:
                 make_fabric(**region_knit(fabric_table, region))
             except (InputError, TypeError) as error:

@@ -110,16 +110,20 @@ def test_a_part_held_by_nothing_and_an_unknown_boundary_are_refused():
 
 
 def test_a_gmsh_file_names_are_checked_before_anything_runs(tmp_path):
-    (tmp_path / "part.geo").write_text(
+    geometry = (
         "Point(1) = {0, 0, 0}; Point(2) = {10, 0, 0}; Point(3) = {10, 10, 0};\n"
         "Point(4) = {0, 10, 0}; Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4};\n"
         "Line(4) = {4, 1}; Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n"
         'Physical Curve("grip") = {4}; Physical Curve("pull") = {2};\n'
         'Physical Surface("panel") = {1};\n'
     )
+    (tmp_path / "part.geo").write_text(geometry)  # gmsh meshes it with triangles
     data = {**BASE, "fabric": {"preset": "cotton-20s2", "stitch": 5.5}}
     data["fabric"]["mesh"] = {"file": "part.geo"}
     data["boundary"] = [{"name": "grip", "kind": "clamp"}, {"name": "top", "kind": "free"}]
+    (problem,) = problems_of_with_base(data, tmp_path)
+    assert problem.startswith("fabric.mesh.file: part.geo: the mesh has Triangle 3 elements")
+    (tmp_path / "part.geo").write_text(geometry + "Recombine Surface{1};\n")
     with pytest.raises(SceneError) as caught:
         scene_from_dict(data, base=tmp_path)
     assert caught.value.problems == [
