@@ -33,8 +33,7 @@ from knitmech.stages import plan_run
 from rve_rod.cache import ResultCache, default_cache_root
 from rve_rod.homogenize.generate import generate_surface
 from rve_rod.rve import RodRve
-from rve_rod.surface import ResponseSurface
-from rve_rod.surface.checks import homogeneous_response
+from rve_rod.surface import ResponseSurface, homogeneous_response
 
 STRAINS = (0.1, 0.2)
 """Engineering strains of the uniaxial force comparison."""

@@ -20,22 +20,28 @@ one physical number against an expectation computed another way.
   is raised (at most the Kirsch factor 3 times the finite-width factor of Heywood).
 """
 
+import json
 import tomllib
 from pathlib import Path
 
+import h5py
 import numpy as np
 import pytest
+from PIL import Image
 
-from fabric_dolfinx.material import surface_material
+from fabric_dolfinx.material import OrthotropicSVK, surface_material
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import TensionSetup, homogeneous_response
+from fabric_dolfinx.tension import TensionSetup
 from fabric_dolfinx.tension_spec import TensionTest
 from knitmech.pipeline import run_scene
 from knitmech.scene import load_scene, scene_from_dict
-from rve_rod.surface import read_surface
+from rve_rod.surface import homogeneous_response, read_surface
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-SCENES = sorted(EXAMPLES.glob("*.toml"))
+SCENES = sorted(
+    path for path in EXAMPLES.glob("*.toml") if "grid" not in tomllib.loads(path.read_text())
+)
+"""The example scenes (not the sweeps, whose files have a [grid])."""
 
 
 @pytest.fixture(scope="module")
@@ -117,9 +123,7 @@ def test_bias_extension_central_zone_follows_the_pure_shear_kinematics(tmp_path,
     lock when stiff yarns run diagonally across them)."""
 
     def edit(data):
-        svk(course_stiffness=100.0, wale_stiffness=100.0, poissons_ratio=0.0, shear_stiffness=0.05)(
-            data
-        )
+        svk(**STIFF_YARNS)(data)
         data["boundary"][1]["displacement"] = [0.0, 5.0]
         data["macro"]["steps"] = 4
 
@@ -132,6 +136,78 @@ def test_bias_extension_central_zone_follows_the_pure_shear_kinematics(tmp_path,
     measured = np.array(part["probes"]["centre"]["shear_angle"])[1:]
     np.testing.assert_allclose(measured, kinematic, rtol=0.05)
     assert measured[-1] > 10.0
+    check_results_folder(tmp_path / "out", part, STIFF_YARNS, angle=45.0, top=(0.0, 5.0))
+
+
+STIFF_YARNS = {"course_stiffness": 100.0, "wale_stiffness": 100.0, "poissons_ratio": 0.0}
+STIFF_YARNS["shear_stiffness"] = 0.05
+FIELDS = (
+    "displacement",
+    "green_lagrange_strain",
+    "cauchy_stress",
+    "principal_stress",
+    "principal_direction",
+    "region",
+    "stitch",
+    "course_direction",
+)
+
+
+def check_results_folder(folder, part, constants, angle, top):
+    """The files of a one-region SVK part whose `top` boundary is moved by `top` (mm):
+    curves.json = the summary's curves; a PNG per loaded boundary; the XDMF fields at the last
+    step against what they must be: the prescribed displacement on the top edge, the strain
+    of the bilinear displacement at each cell centre, the Cauchy stress of the SVK law at
+    `angle` (degrees) from that strain, its principal values and direction, region 0, stitch 0
+    (no knit), the course direction `angle`."""
+    curves = json.loads((folder / "fabric" / "curves.json").read_text())
+    assert curves == part["boundaries"]
+    for name in ("top", "bottom"):
+        with Image.open(folder / "figures" / f"fabric_{name}.png") as image:
+            assert min(image.size) > 100
+    xdmf = (folder / "paraview" / "fabric.xdmf").read_text()
+    assert all(f'Attribute Name="{name}"' in xdmf for name in FIELDS)
+    with h5py.File(folder / "paraview" / "fabric.h5", "r") as h5:
+        X = h5["Mesh/mesh/geometry"][:]
+        quads = h5["Mesh/mesh/topology"][:]
+        last = sorted(h5["Function/displacement"], key=lambda t: float(t.replace("_", ".")))[-1]
+        field = {name: h5[f"Function/{name}/{last}"][:] for name in FIELDS}
+    # XDMF stores vectors with 3 and tensors with 3 x 3 components
+    assert last == "1"
+    u = field["displacement"][:, :2]
+    on_top = np.isclose(X[:, 1], X[:, 1].max())
+    np.testing.assert_allclose(u[on_top], np.tile(top, (on_top.sum(), 1)), atol=1e-12)
+    # bilinear quads (XDMF vertex order: counter-clockwise) at the centre
+    dN = np.array([[-0.5, 0.5, 0.5, -0.5], [-0.5, -0.5, 0.5, 0.5]])
+    J = np.einsum("ak,ckb->cba", dN, X[quads])  # dX/dxi per cell
+    grad_u = np.einsum("ak,ckb->cba", dN, u[quads]) @ np.linalg.inv(J)
+    F = np.eye(2) + grad_u
+    E = 0.5 * (np.transpose(F, (0, 2, 1)) @ F - np.eye(2))
+    np.testing.assert_allclose(
+        field["green_lagrange_strain"].reshape(-1, 3, 3)[:, :2, :2], E, atol=1e-12
+    )
+    C = OrthotropicSVK(**constants).plane_stress_matrix()
+    phi = np.radians(angle)
+    R = np.array([[np.cos(phi), -np.sin(phi)], [np.sin(phi), np.cos(phi)]])
+    Em = R.T @ E @ R
+    Sm = np.zeros_like(Em)
+    Sm[:, 0, 0] = C[0, 0] * Em[:, 0, 0] + C[0, 1] * Em[:, 1, 1]
+    Sm[:, 1, 1] = C[1, 0] * Em[:, 0, 0] + C[1, 1] * Em[:, 1, 1]
+    Sm[:, 0, 1] = Sm[:, 1, 0] = C[2, 2] * Em[:, 0, 1]
+    S = R @ Sm @ R.T
+    cauchy = F @ S @ np.transpose(F, (0, 2, 1)) / np.linalg.det(F)[:, None, None]
+    written = field["cauchy_stress"].reshape(-1, 3, 3)[:, :2, :2]
+    np.testing.assert_allclose(written, cauchy, atol=1e-9 * np.abs(cauchy).max())
+    largest, smallest = field["principal_stress"][:, 0], field["principal_stress"][:, 1]
+    direction = field["principal_direction"][:, :2]
+    np.testing.assert_allclose(largest + smallest, np.trace(written, axis1=1, axis2=2), atol=1e-12)
+    np.testing.assert_allclose(largest * smallest, np.linalg.det(written), atol=1e-12)
+    np.testing.assert_allclose(
+        np.einsum("cij,cj->ci", written, direction), largest[:, None] * direction, atol=1e-12
+    )
+    np.testing.assert_array_equal(field["region"].ravel(), 0.0)
+    np.testing.assert_array_equal(field["stitch"].ravel(), 0.0)
+    np.testing.assert_allclose(field["course_direction"].ravel(), angle, rtol=1e-15)
 
 
 @pytest.mark.slow
