@@ -263,3 +263,46 @@ def test_graded_strip_with_a_constant_stitch_equals_the_plain_knit(tmp_path, cac
             atol=1e-12,
         )
     assert graded["boundaries"]["top"]["force"][-1][1] > 0.1
+
+
+@pytest.mark.mpi
+@pytest.mark.slow
+def test_a_multi_region_part_gives_the_same_answer_under_mpirun(tmp_path):
+    """The plate with a hole, its knit (the shipped surface) with a band of SVK material whose
+    course direction varies with y, through `knitmech run` on one rank and under `mpirun -n
+    2` ([macro] ranks; the fabric stage's cache key does not hold the ranks, so each run has
+    a cache of its own)."""
+
+    def edit(ranks):
+        def change(data):
+            data["macro"] = {"ranks": ranks, "steps": 3}
+            data["boundary"][1]["displacement"] = [2.0, 5.0]
+            data["region"] = [
+                {"name": "fabric", "angle": 90.0},
+                {
+                    "name": "band",
+                    "where": "abs(y - 50) < 12",
+                    "angle": "30 + 0.2 * y",
+                    "svk": {"course_stiffness": 0.5, "wale_stiffness": 1.0, "poissons_ratio": 0.2},
+                },
+            ]
+
+        return change
+
+    parts = [
+        run_example(
+            "plate_with_hole", tmp_path / f"out{ranks}", tmp_path / f"c{ranks}", edit(ranks)
+        )
+        for ranks in (1, 2)
+    ]
+    (serial, _), (parallel, _) = parts
+    assert (serial["ranks"], parallel["ranks"]) == (1, 2)
+    assert serial["dofs"] == parallel["dofs"]
+    for name, curve in serial["boundaries"].items():
+        for key in ("force", "displacement"):
+            np.testing.assert_allclose(
+                parallel["boundaries"][name][key], curve[key], rtol=1e-8, atol=1e-11
+            )
+    for name, probe in serial["probes"].items():
+        np.testing.assert_allclose(parallel["probes"][name]["cauchy"], probe["cauchy"], atol=1e-10)
+    assert serial["boundaries"]["top"]["force"][-1][1] > 0.1
