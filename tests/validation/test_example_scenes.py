@@ -137,6 +137,11 @@ def test_bias_extension_central_zone_follows_the_pure_shear_kinematics(tmp_path,
     np.testing.assert_allclose(measured, kinematic, rtol=0.05)
     assert measured[-1] > 10.0
     check_results_folder(tmp_path / "out", part, STIFF_YARNS, angle=45.0, top=(0.0, 5.0))
+    # unchanged, every stage comes from the cache; no surface stage: the SVK part needs none
+    again, result = run_example("bias_extension", tmp_path / "again", cache, edit)
+    statuses = {record["stage"]: record["status"] for record in result.summary["stages"]}
+    assert statuses == {"geometry": "cached", "fabric": "cached"}
+    assert again["boundaries"] == part["boundaries"]
 
 
 STIFF_YARNS = {"course_stiffness": 100.0, "wale_stiffness": 100.0, "poissons_ratio": 0.0}
