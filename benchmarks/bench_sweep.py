@@ -1,6 +1,6 @@
 """Sweep speed-up: the six cotton stitch values at the fast level, local and mpi executors.
 
-Runs `knitmech sweep` on the six stitch values of cotton 20s/2 (examples/sweep_cotton_stitch.toml,
+Runs `knitmech sweep` on the six stitch values of cotton 20s/2 (examples/sweeps/cotton_stitch.toml,
 25 RVE runs each, 150 in all), every time from an empty cache, with the local executor on 1 and
 2 jobs and the mpi executor on 2 and 3 ranks (`mpirun -n N python -m mpi4py.futures`: one rank
 drives, N-1 compute). It prints the wall time (the whole command: start-up, runs, fits, files)

@@ -117,6 +117,6 @@ def test_failed_runs_are_reported_and_only_they_are_rerun(tmp_path, how, jobs):
 
 
 def test_load_sweep_reads_the_example(tmp_path):
-    sweep = load_sweep("examples/sweep_cotton_stitch.toml")
+    sweep = load_sweep("examples/sweeps/cotton_stitch.toml")
     assert [knit.scene.fabric.stitch for knit in sweep.knits] == [4.5, 5.0, 5.5, 6.0, 6.5, 7.0]
     assert sweep.fidelity == "fast"

@@ -62,13 +62,19 @@ def test_sigterm_in_the_mpi_macro_stage_leaves_nothing_and_the_rerun_resumes(tmp
     results, cache = tmp_path / "results", tmp_path / "cache"
     command = [KNITMECH, "run", str(scene), "-o", str(results), "--cache-dir", str(cache), "-q"]
     run = subprocess.Popen(command, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    deadline = time.monotonic() + 300
+
+    def still_running():
+        if run.poll() is not None:
+            pytest.fail(f"ended with {run.returncode} before the signal: {run.stderr.read()}")
+        assert time.monotonic() < deadline
+
     try:
-        deadline = time.monotonic() + 300
         while not list(results.glob(".stage-*/.patch.json")):  # the macro stage has begun
-            assert run.poll() is None and time.monotonic() < deadline
+            still_running()
             time.sleep(0.2)
         while not processes_mentioning(f"{results}/.stage-"):  # mpirun has started
-            assert run.poll() is None and time.monotonic() < deadline
+            still_running()
             time.sleep(0.2)
         time.sleep(2.0)  # the ranks are starting up or solving
         run.send_signal(signal.SIGTERM)

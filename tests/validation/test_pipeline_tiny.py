@@ -30,7 +30,7 @@ import knitmech.macro
 from knitmech.pipeline import run_scene
 from knitmech.scene import scene_from_dict
 from knitmech.stage_cache import CACHED, COMPUTED, GIVEN
-from rve_rod.homogenize.generate import engine_identity
+from rve_rod.homogenize.generate import GenerationError, engine_identity
 from rve_rod.rve import RodRve
 
 TINY = {
@@ -73,8 +73,10 @@ def runs(tmp_path_factory):
     outcomes = {}
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr("knitmech.stages.RodRve", FailingAtShear)
-        with pytest.raises(PowerCutError):
+        with pytest.raises(GenerationError) as stopped:  # the other runs finish and are cached
             run_scene(scene, output=root / "stopped", **arguments)
+    assert [failure.case.load.kind for failure in stopped.value.failures] == ["shear"]
+    assert stopped.value.failures[0].reason.startswith("PowerCutError")
     outcomes["stopped_in_surface"] = root / "stopped"
     run_patch = knitmech.macro.run_patch
 
