@@ -38,10 +38,7 @@ from knitmech.scene import load_scene, scene_from_dict
 from rve_rod.surface import homogeneous_response, read_surface
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-SCENES = sorted(
-    path for path in EXAMPLES.glob("*.toml") if "grid" not in tomllib.loads(path.read_text())
-)
-"""The example scenes (not the sweeps, whose files have a [grid])."""
+SCENES = sorted(EXAMPLES.glob("*.toml"))
 
 
 @pytest.fixture(scope="module")
