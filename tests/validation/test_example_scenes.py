@@ -18,6 +18,10 @@ one physical number against an expectation computed another way.
 * plate with a hole (isotropic SVK variant without Poisson contraction, small strain): far
   from the hole the stress is the nominal force per width (Saint-Venant); beside the hole it
   is raised (at most the Kirsch factor 3 times the finite-width factor of Heywood).
+
+Besides: the bias-extension run's results folder (curves, figures, every XDMF field against
+the displacement it was computed from and the SVK law), its rerun from the cache, and a
+two-region plate with a hole under `mpirun -n 2` against one rank.
 """
 
 import json
