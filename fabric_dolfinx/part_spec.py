@@ -7,6 +7,7 @@ meshes it); `BoundaryCondition`: what holds or loads one named boundary
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -19,8 +20,9 @@ __all__ = [
     "SHAPES",
     "SHAPE_DIMENSIONS",
     "BoundaryCondition",
+    "GmshContents",
     "MeshSpec",
-    "gmsh_names",
+    "gmsh_contents",
     "physical_groups",
     "shape_points",
     "shape_size",
@@ -136,10 +138,25 @@ class BoundaryCondition:
         return self.kind in ("clamp", "displacement", "roller")
 
 
-def gmsh_names(path, parameters=None) -> tuple[list[str], list[str]]:
-    """(physical curve names, physical surface names) of a gmsh `.geo` or `.msh` file, with
-    the checks of `physical_groups` (a `.geo` file is meshed for them: a 2D mesh, without
-    refinements); InputError when gmsh cannot read the file or a check fails."""
+class GmshContents(NamedTuple):
+    """What a gmsh file defines, read before anything runs.
+
+    Attributes:
+        curves: physical curve names (the boundaries).
+        surfaces: physical surface names (the regions).
+        centres: physical surface name -> (n, 2) centres (mm) of its elements (after the
+            refinements), where a graded stitch is checked and its members planned.
+    """
+
+    curves: list[str]
+    surfaces: list[str]
+    centres: dict[str, np.ndarray]
+
+
+def gmsh_contents(path, parameters=None, refinements: int = 0) -> GmshContents:
+    """The physical groups of a gmsh `.geo` or `.msh` file and their elements' centres, with
+    the checks of `physical_groups` (a `.geo` file is meshed in 2D, as `read_geo` does);
+    InputError when gmsh cannot read the file or a check fails."""
     import gmsh  # noqa: PLC0415 (gmsh only for scenes with a mesh file)
 
     arguments = ["fabric_dolfinx"]
@@ -152,12 +169,22 @@ def gmsh_names(path, parameters=None) -> tuple[list[str], list[str]]:
             gmsh.open(str(path))
             if str(path).endswith(".geo"):
                 gmsh.model.mesh.generate(2)
+            for _ in range(refinements):
+                gmsh.model.mesh.refine()
         except Exception as error:  # gmsh raises plain Exceptions
             raise InputError(f"gmsh cannot read {path}: {error}") from None
         curves, surfaces = physical_groups(Path(path).name)
+        centres = {}
+        for name, tag in surfaces.items():
+            points = [np.zeros((0, 2))]
+            for entity in gmsh.model.getEntitiesForPhysicalGroup(2, tag):
+                for kind in gmsh.model.mesh.getElementTypes(2, entity):
+                    centre = gmsh.model.mesh.getBarycenters(kind, entity, False, True)
+                    points.append(np.reshape(centre, (-1, 3))[:, :2])
+            centres[name] = np.concatenate(points)
     finally:
         gmsh.finalize()
-    return list(curves), list(surfaces)
+    return GmshContents(list(curves), list(surfaces), centres)
 
 
 def physical_groups(source: str) -> tuple[dict[str, int], dict[str, int]]:

@@ -202,3 +202,28 @@ def test_a_graded_stitch_outside_the_family_or_with_svk_is_refused():
     assert problems_of({**BASE, "region": mixed}) == [
         "region[0]: give one of svk, knit values, not several"
     ]
+
+
+def test_a_graded_stitch_on_a_gmsh_file_is_planned_from_its_element_centres(tmp_path):
+    (tmp_path / "strip.geo").write_text(
+        "Point(1) = {0, 0, 0}; Point(2) = {100, 0, 0}; Point(3) = {100, 20, 0};\n"
+        "Point(4) = {0, 20, 0}; Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4};\n"
+        "Line(4) = {4, 1}; Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n"
+        "Transfinite Curve{1, 3} = 11; Transfinite Curve{2, 4} = 3; Transfinite Surface{1};\n"
+        'Recombine Surface{1}; Physical Curve("grip") = {4}; Physical Surface("panel") = {1};\n'
+    )
+    data = {**BASE, "fabric": {"preset": "cotton-20s2", "stitch": 5.5}}
+    data["fabric"]["mesh"] = {"file": "strip.geo"}
+    data["boundary"] = [{"name": "grip", "kind": "clamp"}]
+    # 10 mm quads: centres at x = 5 ... 95 mm, so the stitch spans 5.2 + 0.005 x = 5.225 ... 5.675
+    data["region"] = [{"name": "panel", "stitch": "5.2 + 0.005 * x"}]
+    (panel,) = scene_from_dict(data, base=tmp_path).part.regions
+    assert panel.members == (5.0, 5.5, 6.0)
+    data["region"] = [{"name": "panel", "stitch": "4.5 + 0.01 * (x - 5)"}]  # 4.5 ... 5.4
+    (panel,) = scene_from_dict(data, base=tmp_path).part.regions
+    assert panel.members == (4.5, 5.0, 5.5)
+    data["fabric"]["mesh"]["refinements"] = 1  # 5 mm quads: centres at 2.5 ... 97.5 mm
+    assert problems_of_with_base(data, tmp_path) == [
+        "region[0].stitch: 4.475 ... 5.425 mm over the region leaves the family's range "
+        "[4.5, 7] mm of cotton-20s2"
+    ]
