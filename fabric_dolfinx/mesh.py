@@ -18,12 +18,11 @@ import gmsh
 import numpy as np
 from mpi4py import MPI
 
-from fabric_dolfinx.part_spec import QUADRILATERAL_TYPES, physical_groups
+from fabric_dolfinx.part_spec import physical_groups
 from rve_rod.errors import InputError, check_integer, check_positive
 
 __all__ = [
     "MESH_DIRECTORY",
-    "QUADRILATERAL_TYPES",
     "TaggedMesh",
     "mesh_gmsh_model",
     "plate_with_hole",

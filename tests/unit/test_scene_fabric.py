@@ -227,3 +227,21 @@ def test_a_graded_stitch_on_a_gmsh_file_is_planned_from_its_element_centres(tmp_
         "region[0].stitch: 4.475 ... 5.425 mm over the region leaves the family's range "
         "[4.5, 7] mm of cotton-20s2"
     ]
+
+
+def test_a_part_without_a_knit_is_one_problem_naming_the_regions_that_need_one():
+    shape = {"kind": "rectangle"}
+    held = [{"name": "bottom", "kind": "clamp"}]
+    svk = {"course_stiffness": 1.0}
+    band = {"name": "band", "where": "y > 10", "svk": svk}
+    bare = {"fabric": {"shape": shape}, "region": [{"name": "fabric"}, band], "boundary": held}
+    assert problems_of(bare) == [
+        "fabric: no knit for region[0] 'fabric': give [fabric] preset and stitch, or "
+        "wale_width, course_height, yarn_radius and youngs_modulus, or the region a preset, "
+        "surface or svk"
+    ]
+    own = {"fabric": {"shape": shape}, "region": [{"name": "fabric", "svk": svk}], "boundary": held}
+    assert problems_of(own) == [
+        "fabric: no knit (the scene's own, for its geometry and meso stages): give [fabric] "
+        "preset and stitch, or wale_width, course_height, yarn_radius and youngs_modulus"
+    ]
