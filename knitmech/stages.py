@@ -57,6 +57,7 @@ __all__ = [
     "given_surface",
     "macro_stages",
     "meso_stages",
+    "mpirun_environment",
     "plan_run",
     "surface_stage",
     "surface_summary",
@@ -382,6 +383,32 @@ def _run_group(command: list[str], environment: dict) -> tuple[int, str]:
     return process.returncode, stderr
 
 
+_ENCLOSING_JOB = (
+    "PMIX_",
+    "ORTE_",
+    "OMPI_MCA_ess",
+    "OMPI_MCA_orte_",
+    "OMPI_MCA_pmix",
+    "OMPI_APP_CTX_",
+)
+"""Prefixes of the variables Open MPI sets in a process that initialized MPI (a singleton,
+e.g. a Python session that imported DOLFINx) and that its children inherit: an `mpirun`
+started with them takes itself for part of that job and fails without a message."""
+
+
+def mpirun_environment() -> dict[str, str]:
+    """The environment for an `mpirun` this process starts: its own, without the variables of
+    an enclosing MPI job (`_ENCLOSING_JOB`; a stage's mpirun is never meant to join one), with
+    running as root and oversubscription allowed."""
+    environment = {k: v for k, v in os.environ.items() if not k.startswith(_ENCLOSING_JOB)}
+    environment.update(
+        OMPI_ALLOW_RUN_AS_ROOT="1",
+        OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+        OMPI_MCA_rmaps_base_oversubscribe="1",
+    )
+    return environment
+
+
 def _run_patch_mpi(job: PatchJob, surface_path: Path, folder: Path, ranks: int) -> PatchSummary:
     """Run `knitmech.macro` under `mpirun -n ranks`; returns the summary rank 0 wrote."""
     request = folder / ".patch.json"
@@ -399,14 +426,8 @@ def _run_patch_mpi(job: PatchJob, surface_path: Path, folder: Path, ranks: int) 
         str(folder),
         str(summary_path),
     ]
-    environment = {
-        **os.environ,
-        "OMPI_ALLOW_RUN_AS_ROOT": "1",
-        "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
-        "OMPI_MCA_rmaps_base_oversubscribe": "1",
-    }
     logger.info("macro %s: %s", job.test.direction, " ".join(command))
-    returncode, stderr = _run_group(command, environment)
+    returncode, stderr = _run_group(command, mpirun_environment())
     if returncode != 0:
         tail = "\n".join(stderr.strip().splitlines()[-5:])
         raise StageError(f"macro {job.test.direction} under mpirun failed: {tail}")
