@@ -18,11 +18,11 @@ import gmsh
 import numpy as np
 from mpi4py import MPI
 
+from fabric_dolfinx.part_spec import physical_groups
 from rve_rod.errors import InputError, check_integer, check_positive
 
 __all__ = [
     "MESH_DIRECTORY",
-    "QUADRILATERAL_TYPES",
     "TaggedMesh",
     "mesh_gmsh_model",
     "plate_with_hole",
@@ -62,10 +62,6 @@ class TaggedMesh(NamedTuple):
         if name not in (self.regions or {}):
             raise InputError(f"region {name!r} is not tagged; tagged: {sorted(self.regions or {})}")
         return self.cell_tags.find(self.regions[name])
-
-
-QUADRILATERAL_TYPES = {3: "4-node quadrilateral"}
-"""gmsh element types accepted for the fabric's cells."""
 
 
 def read_geo(
@@ -131,7 +127,7 @@ def mesh_gmsh_model(
                 build()
                 for _ in range(refinements):
                     gmsh.model.mesh.refine()
-                groups = _physical_groups(source)
+                groups = physical_groups(source)
             except Exception as error:  # gmsh raises plain Exceptions
                 groups = (
                     error
@@ -151,44 +147,6 @@ def mesh_gmsh_model(
         raise InputError(f"{source} did not give a quadrilateral mesh")
     boundaries, regions = groups
     return TaggedMesh(mesh, facet_tags, boundaries, cell_tags, regions)
-
-
-def _physical_groups(source: str) -> tuple[dict[str, int], dict[str, int]]:
-    """(curve name -> tag, surface name -> tag) of the current gmsh model, after checking its
-    2D elements (rank 0 only)."""
-    types = set(gmsh.model.mesh.getElementTypes(2))
-    if not types:
-        raise InputError(f"{source}: the mesh has no 2D elements")
-    others = sorted(int(t) for t in types - set(QUADRILATERAL_TYPES))
-    if others:
-        names = ", ".join(gmsh.model.mesh.getElementProperties(t)[0] for t in others)
-        raise InputError(
-            f"{source}: the mesh has {names} elements; only 4-node quadrilaterals are "
-            "supported (recombine the mesh: Recombine Surface, Mesh.RecombineAll = 1)"
-        )
-    boundaries = {
-        gmsh.model.getPhysicalName(1, tag): tag for _, tag in gmsh.model.getPhysicalGroups(1)
-    }
-    regions = {
-        gmsh.model.getPhysicalName(2, tag): tag for _, tag in gmsh.model.getPhysicalGroups(2)
-    }
-    if not regions:
-        raise InputError(f"{source}: no physical surface (a region) is defined")
-    # a DOLFINx mesh tag holds one value per entity: overlapping groups would lose names
-    for dim, groups, kind in ((1, boundaries, "curves"), (2, regions, "surfaces")):
-        owner: dict[int, str] = {}
-        for name, tag in groups.items():
-            for entity in gmsh.model.getEntitiesForPhysicalGroup(dim, tag):
-                if entity in owner:
-                    raise InputError(
-                        f"{source}: {kind[:-1]} {entity} belongs to the physical {kind} "
-                        f"{owner[entity]!r} and {name!r}; they must not overlap"
-                    )
-                owner[entity] = name
-    unnamed = [n for n in (*boundaries, *regions) if not n]
-    if unnamed:
-        raise InputError(f"{source}: every physical group needs a name")
-    return boundaries, regions
 
 
 def rectangle_patch(

@@ -6,6 +6,8 @@ meshes it); `BoundaryCondition`: what holds or loads one named boundary
 """
 
 from dataclasses import dataclass, field
+from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -14,14 +16,21 @@ from rve_rod.errors import InputError, check_integer, check_positive
 __all__ = [
     "BOUNDARY_KINDS",
     "COMPONENTS",
+    "QUADRILATERAL_TYPES",
     "SHAPES",
     "SHAPE_DIMENSIONS",
     "BoundaryCondition",
+    "GmshContents",
     "MeshSpec",
-    "gmsh_names",
+    "gmsh_contents",
+    "physical_groups",
     "shape_points",
     "shape_size",
 ]
+
+QUADRILATERAL_TYPES = {3: "4-node quadrilateral"}
+"""gmsh element types accepted for the fabric's cells."""
+
 
 SHAPES = ("rectangle", "patch", "cruciform", "plate_with_hole", "disc", "tube")
 """Names of the built-in shapes."""
@@ -132,9 +141,25 @@ class BoundaryCondition:
         return self.kind in ("clamp", "displacement", "roller")
 
 
-def gmsh_names(path, parameters=None) -> tuple[list[str], list[str]]:
-    """(physical curve names, physical surface names) of a gmsh `.geo` or `.msh` file, read
-    without meshing (InputError when gmsh cannot read it)."""
+class GmshContents(NamedTuple):
+    """What a gmsh file defines, read before anything runs.
+
+    Attributes:
+        curves: physical curve names (the boundaries).
+        surfaces: physical surface names (the regions).
+        centres: physical surface name -> (n, 2) centres (mm) of its elements (after the
+            refinements), where a graded stitch is checked and its members planned.
+    """
+
+    curves: list[str]
+    surfaces: list[str]
+    centres: dict[str, np.ndarray]
+
+
+def gmsh_contents(path, parameters=None, refinements: int = 0) -> GmshContents:
+    """The physical groups of a gmsh `.geo` or `.msh` file and their elements' centres, with
+    the checks of `physical_groups` (a `.geo` file is meshed in 2D, as `read_geo` does);
+    InputError when gmsh cannot read the file or a check fails."""
     import gmsh  # noqa: PLC0415 (gmsh only for scenes with a mesh file)
 
     arguments = ["fabric_dolfinx"]
@@ -145,15 +170,66 @@ def gmsh_names(path, parameters=None) -> tuple[list[str], list[str]]:
         gmsh.option.setNumber("General.Terminal", 0)
         try:
             gmsh.open(str(path))
+            if str(path).endswith(".geo"):
+                gmsh.model.mesh.generate(2)
+            for _ in range(refinements):
+                gmsh.model.mesh.refine()
         except Exception as error:  # gmsh raises plain Exceptions
             raise InputError(f"gmsh cannot read {path}: {error}") from None
-        names = [
-            [gmsh.model.getPhysicalName(dim, tag) for _, tag in gmsh.model.getPhysicalGroups(dim)]
-            for dim in (1, 2)
-        ]
+        curves, surfaces = physical_groups(Path(path).name)
+        centres = {}
+        for name, tag in surfaces.items():
+            points = [np.zeros((0, 2))]
+            for entity in gmsh.model.getEntitiesForPhysicalGroup(2, tag):
+                for kind in gmsh.model.mesh.getElementTypes(2, entity):
+                    centre = gmsh.model.mesh.getBarycenters(kind, entity, False, True)
+                    points.append(np.reshape(centre, (-1, 3))[:, :2])
+            centres[name] = np.concatenate(points)
     finally:
         gmsh.finalize()
-    return names[0], names[1]
+    return GmshContents(list(curves), list(surfaces), centres)
+
+
+def physical_groups(source: str) -> tuple[dict[str, int], dict[str, int]]:
+    """(curve name -> tag, surface name -> tag) of the current gmsh model (meshed), after
+    checking that its 2D elements are 4-node quadrilaterals, that it has a physical surface,
+    that no curve (surface) is in two physical curves (surfaces) and that every group has a
+    name (InputError naming `source` otherwise)."""
+    import gmsh  # noqa: PLC0415 (gmsh only for meshes)
+
+    types = set(gmsh.model.mesh.getElementTypes(2))
+    if not types:
+        raise InputError(f"{source}: the mesh has no 2D elements")
+    others = sorted(int(t) for t in types - set(QUADRILATERAL_TYPES))
+    if others:
+        names = ", ".join(gmsh.model.mesh.getElementProperties(t)[0] for t in others)
+        raise InputError(
+            f"{source}: the mesh has {names} elements; only 4-node quadrilaterals are "
+            "supported (recombine the mesh: Recombine Surface, Mesh.RecombineAll = 1)"
+        )
+    boundaries = {
+        gmsh.model.getPhysicalName(1, tag): tag for _, tag in gmsh.model.getPhysicalGroups(1)
+    }
+    regions = {
+        gmsh.model.getPhysicalName(2, tag): tag for _, tag in gmsh.model.getPhysicalGroups(2)
+    }
+    if not regions:
+        raise InputError(f"{source}: no physical surface (a region) is defined")
+    # a DOLFINx mesh tag holds one value per entity: overlapping groups would lose names
+    for dim, groups, kind in ((1, boundaries, "curves"), (2, regions, "surfaces")):
+        owner: dict[int, str] = {}
+        for name, tag in groups.items():
+            for entity in gmsh.model.getEntitiesForPhysicalGroup(dim, tag):
+                if entity in owner:
+                    raise InputError(
+                        f"{source}: {kind[:-1]} {entity} belongs to the physical {kind} "
+                        f"{owner[entity]!r} and {name!r}; they must not overlap"
+                    )
+                owner[entity] = name
+    unnamed = [n for n in (*boundaries, *regions) if not n]
+    if unnamed:
+        raise InputError(f"{source}: every physical group needs a name")
+    return boundaries, regions
 
 
 def shape_points(spec: MeshSpec, count: int = 101) -> np.ndarray:

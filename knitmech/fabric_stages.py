@@ -12,7 +12,6 @@ file or SVK constants needs no surface run. No DOLFINx here: the fabric stage im
 import dataclasses
 import json
 import logging
-import os
 import subprocess
 import sys
 from pathlib import Path
@@ -21,7 +20,14 @@ from typing import NamedTuple
 from knitmech.fabric_job_spec import FabricJob, RegionMaterial
 from knitmech.scene_fabric import region_knit
 from knitmech.stage_cache import Stage
-from knitmech.stages import STAGE_VERSION, SURFACE_FILE, RunPlan, StageError, file_digest
+from knitmech.stages import (
+    STAGE_VERSION,
+    SURFACE_FILE,
+    RunPlan,
+    StageError,
+    file_digest,
+    mpirun_environment,
+)
 from rve_rod.presets import Fabric, make_fabric
 
 __all__ = [
@@ -178,13 +184,8 @@ def _run_mpi(job: FabricJob, folder: Path, ranks: int) -> dict:
     request.write_text(json.dumps(job.to_json()))
     command = ["mpirun", "-n", str(ranks), sys.executable, "-m", "knitmech.fabric_job"]
     command += [str(request), str(folder), str(summary_path)]
-    environment = {
-        **os.environ,
-        "OMPI_ALLOW_RUN_AS_ROOT": "1",
-        "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
-        "OMPI_MCA_rmaps_base_oversubscribe": "1",
-    }
     logger.info("fabric: %s", " ".join(command))
+    environment = mpirun_environment()
     process = subprocess.run(command, check=False, capture_output=True, text=True, env=environment)
     if process.returncode != 0:
         tail = "\n".join(process.stderr.strip().splitlines()[-5:])

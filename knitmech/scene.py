@@ -257,7 +257,7 @@ def scene_from_dict(data: dict, source: str = "<dict>", base: Path | None = None
             problems.append(f"{name}: expected a table, got {_describe(table)}")
             table = {}
         parts[name] = _read_section(name, cls, table, problems)
-    _check_values(parts, problems, base)
+    _check_values(parts, problems, base, part)
     if problems:
         raise SceneError(source, problems)
     surface = parts["surface"]
@@ -330,7 +330,9 @@ def _read_section(name: str, cls: type, table: dict, problems: list[str]):
     return cls(**values)
 
 
-def _check_values(parts: dict, problems: list[str], base: Path | None) -> None:
+def _check_values(
+    parts: dict, problems: list[str], base: Path | None, part: PartSpec | None = None
+) -> None:
     fabric, meso, surface, macro = (parts[k] for k in ("fabric", "meso", "surface", "macro"))
     for key in ("stitch", "wale_width", "course_height", "yarn_radius", "youngs_modulus"):
         value = getattr(fabric, key)
@@ -352,8 +354,12 @@ def _check_values(parts: dict, problems: list[str], base: Path | None) -> None:
                 key = "fabric.stitch" if "stitch" in str(error) else "fabric.preset"
                 problems.append(f"{key}: {error}")
     elif "preset" not in reported:
-        for key in ("wale_width", "course_height", "yarn_radius", "youngs_modulus"):
-            if getattr(fabric, key) is None:
+        keys = ("wale_width", "course_height", "yarn_radius", "youngs_modulus")
+        missing = [key for key in keys if getattr(fabric, key) is None]
+        if missing and part is not None:
+            problems.append(_no_knit(part))
+        else:
+            for key in missing:
                 problems.append(f"fabric.{key}: required when fabric.preset is not given")
     for case in meso.cases:
         if case not in MESO_CASES:
@@ -394,6 +400,26 @@ def _check_values(parts: dict, problems: list[str], base: Path | None) -> None:
     for key, value, (low, high) in counts:
         if value is not None and not low <= value <= high:
             problems.append(f"{key}: {value} is outside the valid range [{low}, {high}]")
+
+
+def _no_knit(part: PartSpec) -> str:
+    """The one problem of a part scene whose [fabric] table gives no knit: the regions that
+    would take theirs from it (those without a preset, surface or svk of their own)."""
+    bare = [
+        f"region[{index}] {region.name!r}"
+        for index, region in enumerate(part.regions)
+        if "preset" not in region.knit and region.surface is None and region.svk is None
+    ]
+    if not bare:
+        return (
+            "fabric: no knit (the scene's own, for its geometry and meso stages): give [fabric] "
+            "preset and stitch, or wale_width, course_height, yarn_radius and youngs_modulus"
+        )
+    return (
+        f"fabric: no knit for {', '.join(bare)}: give [fabric] preset and stitch, or "
+        "wale_width, course_height, yarn_radius and youngs_modulus, or the region a preset, "
+        "surface or svk"
+    )
 
 
 def _describe(value: Any) -> str:

@@ -30,6 +30,8 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from fabric_dolfinx.field_expression import FieldExpression
 from fabric_dolfinx.part_spec import (
     BOUNDARY_KINDS,
@@ -37,8 +39,9 @@ from fabric_dolfinx.part_spec import (
     SHAPE_DIMENSIONS,
     SHAPES,
     BoundaryCondition,
+    GmshContents,
     MeshSpec,
-    gmsh_names,
+    gmsh_contents,
     shape_points,
     shape_size,
 )
@@ -158,6 +161,12 @@ def read_part(
         spec = _read_shape(shape, problems)
     else:
         spec = _read_mesh(mesh, problems, base)
+    contents = None  # a gmsh file's physical groups and element centres
+    if spec is not None and spec.file is not None and Path(spec.file).is_file():
+        try:
+            contents = gmsh_contents(spec.file, spec.parameters, spec.refinements)
+        except InputError as error:
+            problems.append(f"fabric.mesh.file: {error}")
     region_specs = tuple(
         _read_region(i, table, problems, base)
         for i, table in enumerate(_tables("region", regions, problems))
@@ -166,13 +175,20 @@ def read_part(
     for name in sorted({n for n in names if names.count(n) > 1}):
         problems.append(f"region: the name {name!r} is given twice")
     region_specs = tuple(
-        _graded_members(index, region, fabric_table, spec, problems)
+        _graded_members(index, region, fabric_table, _points(spec, contents, region), problems)
         if region.graded_stitch is not None
         else region
         for index, region in enumerate(region_specs)
     )
     for index, region in enumerate(region_specs):
-        if region.graded_stitch is None and region.knit and None not in region.knit.values():
+        # a region whose preset or stitch was refused already is not reported twice
+        reported = any(problem.startswith(f"region[{index}]") for problem in problems)
+        if (
+            not reported
+            and region.graded_stitch is None
+            and region.knit
+            and None not in region.knit.values()
+        ):
             try:
                 make_fabric(**region_knit(fabric_table, region))
             except (InputError, TypeError) as error:
@@ -194,15 +210,11 @@ def read_part(
     if spec is not None and spec.shape is not None:
         names = (_SHAPE_BOUNDARIES[spec.shape], ("fabric",))
         _check_names(spec.shape, names, region_specs, boundary_specs, problems)
-    elif spec is not None and Path(spec.file).is_file():
-        try:
-            names = gmsh_names(spec.file, spec.parameters)
-        except InputError as error:
-            problems.append(f"fabric.mesh.file: {error}")
-        else:
-            if regions is None:  # every physical surface, with the [fabric] knit
-                region_specs = tuple(RegionSpec(name=name) for name in names[1]) or region_specs
-            _check_names(Path(spec.file).name, names, region_specs, boundary_specs, problems)
+    elif contents is not None:
+        if regions is None:  # every physical surface, with the [fabric] knit
+            region_specs = tuple(RegionSpec(name=n) for n in contents.surfaces) or region_specs
+        names = (contents.curves, contents.surfaces)
+        _check_names(Path(spec.file).name, names, region_specs, boundary_specs, problems)
     probes = _read_probes(data.get("probe"), problems)
     space = read_space(data, spec, problems) if spec is not None else None
     if space is not None and len(region_specs) > 1:
@@ -235,11 +247,30 @@ def _read_probes(value, problems: list[str]) -> dict[str, tuple[float, float]]:
     return probes
 
 
+def _points(
+    spec: MeshSpec | None, contents: GmshContents | None, region: RegionSpec
+) -> np.ndarray | None:
+    """(n, 2) points (mm) where a region's graded stitch is checked before meshing: a grid
+    over a built-in shape, the element centres of a gmsh file's physical surface (of every
+    surface for a region with `where`), within `where`; None when they are not known."""
+    if spec is not None and spec.shape is not None:
+        points = shape_points(spec)
+    elif contents is not None and region.where is None:
+        points = contents.centres.get(region.name, np.zeros((0, 2)))
+    elif contents is not None:
+        points = np.concatenate([np.zeros((0, 2)), *contents.centres.values()])
+    else:
+        return None
+    if region.where is not None:
+        points = points[FieldExpression(region.where)(points[:, 0], points[:, 1]) != 0.0]
+    return points
+
+
 def _graded_members(
-    index: int, region: RegionSpec, fabric: dict, spec: MeshSpec | None, problems: list[str]
+    index: int, region: RegionSpec, fabric: dict, points: np.ndarray | None, problems: list[str]
 ) -> RegionSpec:
-    """The region with the preset stitch values its graded stitch needs; problems when the
-    preset has no family or the stitch leaves it (checked on points of a built-in shape)."""
+    """The region with the preset stitch values its graded stitch needs at `points` (all of
+    them when None or empty); problems when the preset has no family or the stitch leaves it."""
     key = f"region[{index}].stitch"
     preset = region.knit.get("preset", fabric.get("preset"))
     values = stitch_values(preset) if isinstance(preset, str) else []
@@ -247,11 +278,8 @@ def _graded_members(
         problems.append(f"{key}: a graded stitch needs a preset measured at several stitch values")
         return region
     values = sorted(float(v) for v in values)
-    if spec is None or spec.shape is None:
-        return replace(region, members=tuple(values))  # a mesh file: the whole family
-    points = shape_points(spec)
-    if region.where is not None:
-        points = points[FieldExpression(region.where)(points[:, 0], points[:, 1]) != 0.0]
+    if points is None or len(points) == 0:
+        return replace(region, members=tuple(values))
     stitch = FieldExpression(region.graded_stitch, key)(points[:, 0], points[:, 1])
     low, high = float(stitch.min()), float(stitch.max())
     if low < values[0] - 1e-9 or high > values[-1] + 1e-9:

@@ -43,6 +43,7 @@ from rve_rod.vtk import write_vtk
 __all__ = [
     "DIRECTION_CASES",
     "FIELD_STRAINS",
+    "MPI_JOB_VARIABLES",
     "MPI_STOP_TIMEOUT_S",
     "SOFTENING_TOLERANCE",
     "STAGE_VERSION",
@@ -56,6 +57,7 @@ __all__ = [
     "given_surface",
     "macro_stages",
     "meso_stages",
+    "mpirun_environment",
     "plan_run",
     "surface_stage",
     "surface_summary",
@@ -356,8 +358,8 @@ MPI_JOB_VARIABLES = (
 )
 """Prefixes of the environment variables of a running MPI job (set by its mpirun, or by Open
 MPI for a process that initialized MPI alone): an `mpirun` started with them inherited exits
-with 1 and no message, so the macro stage's mpirun does not get them. Such a parent is e.g. a
-Python process that imported DOLFINx and then ran `knitmech run` (the test suite)."""
+with 1 and no message, so no stage's mpirun gets them (`mpirun_environment`). Such a parent
+is e.g. a Python process that imported DOLFINx and then ran `knitmech run` (the test suite)."""
 
 
 def _run_group(command: list[str], environment: dict) -> tuple[int, str]:
@@ -392,6 +394,19 @@ def _run_group(command: list[str], environment: dict) -> tuple[int, str]:
     return process.returncode, stderr
 
 
+def mpirun_environment() -> dict[str, str]:
+    """The environment for an `mpirun` this process starts: its own, without the variables of
+    an enclosing MPI job (`MPI_JOB_VARIABLES`; a stage's mpirun is never meant to join one),
+    with running as root and oversubscription allowed."""
+    environment = {k: v for k, v in os.environ.items() if not k.startswith(MPI_JOB_VARIABLES)}
+    environment.update(
+        OMPI_ALLOW_RUN_AS_ROOT="1",
+        OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+        OMPI_MCA_rmaps_base_oversubscribe="1",
+    )
+    return environment
+
+
 def _run_patch_mpi(job: PatchJob, surface_path: Path, folder: Path, ranks: int) -> PatchSummary:
     """Run `knitmech.macro` under `mpirun -n ranks`; returns the summary rank 0 wrote."""
     request = folder / ".patch.json"
@@ -409,14 +424,8 @@ def _run_patch_mpi(job: PatchJob, surface_path: Path, folder: Path, ranks: int) 
         str(folder),
         str(summary_path),
     ]
-    environment = {
-        **{k: v for k, v in os.environ.items() if not k.startswith(MPI_JOB_VARIABLES)},
-        "OMPI_ALLOW_RUN_AS_ROOT": "1",
-        "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
-        "OMPI_MCA_rmaps_base_oversubscribe": "1",
-    }
     logger.info("macro %s: %s", job.test.direction, " ".join(command))
-    returncode, stderr = _run_group(command, environment)
+    returncode, stderr = _run_group(command, mpirun_environment())
     if returncode != 0:
         tail = "\n".join(stderr.strip().splitlines()[-5:])
         raise StageError(f"macro {job.test.direction} under mpirun failed: {tail}")

@@ -45,6 +45,20 @@ preset = "cotton-20s2"
 stitch = 5.5
 """
 CORES = available_cores()
+PART = """
+[fabric.shape]
+kind = "rectangle"
+height = 200.0
+[[boundary]]
+name = "bottom"
+kind = "clamp"
+"""
+"""A strip held at its bottom (issue 15's part rows add to it); {tri}: a .geo of triangles."""
+NO_KNIT = 'name = "no knit"\nfidelity = "fast"\n' + PART
+TRIANGLES = """Point(1) = {0, 0, 0}; Point(2) = {10, 0, 0}; Point(3) = {0, 10, 0};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 1}; Curve Loop(1) = {1, 2, 3};
+Plane Surface(1) = {1}; Physical Curve("bottom") = {1}; Physical Surface("fabric") = {1};
+"""
 
 # tool, arguments, scene lines (for {scene}), exit status, words of the message
 TABLE = [
@@ -87,6 +101,57 @@ TABLE = [
     ("rve-rod", f"simulate {FABRIC} --control-points 12", "", 2, "--control-points=12 is out"),
     ("knitmech", "run {scene}", "[meso]\ncontrol_points = 12", 2, "meso.control_points: 12"),
     ("rve-rod", f"geometry {FABRIC} --course-height 50", "", 2, "course_height=50 mm is out"),
+    # a scene's part (issue 15)
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PART}[[boundary]]\nname = 'side'\nkind = 'free'",
+        2,
+        "boundary[1].name: rectangle has no boundary 'side'; its boundaries: left, right, bottom",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PART}[[region]]\nname = 'core'",
+        2,
+        "region[0].name: rectangle has no region 'core' (its regions: fabric)",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        "[fabric.mesh]\nfile = '{tri}'\n[[boundary]]\nname = 'bottom'\nkind = 'clamp'",
+        2,
+        "tri.geo: the mesh has Triangle 3 elements; only 4-node quadrilaterals",
+    ),
+    ("knitmech", "run {scene}", NO_KNIT, 2, "fabric: no knit for region[0] 'fabric': give"),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PART}[[region]]\nname = 'fabric'\nstitch = '4 + 3.5 * y / 200'",
+        2,
+        "region[0].stitch: 4 ... 7.5 mm over the region leaves the family's range [4.5, 7] mm",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PART}[[region]]\nname = 'fabric'\nstitch = 7.5",
+        2,
+        "region[0]: stitch=7.5 mm is not measured; valid stitch values: 4.5",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PART}[[region]]\nname = 'fabric'\npreset = 'cotton-20s2'",
+        2,
+        "region[0].stitch: preset cotton-20s2 needs --stitch, one of 4.5",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PART}[[boundary]]\nname = 'bottom'\nkind = 'roller'",
+        2,
+        "boundary: conditions overlap, 'bottom' is given twice",
+    ),
 ]
 
 
@@ -120,7 +185,14 @@ def test_bad_input_one_line_naming_the_parameter_before_any_work(
     }
     places["dir"].mkdir()
     places["file"].write_text("not a folder")
-    places["scene"].write_text(SCENE.replace("stitch = 5.5", f"stitch = 5.5\n{scene}"))
+    places["tri"] = tmp_path / "tri.geo"
+    places["tri"].write_text(TRIANGLES)
+    text = (
+        scene
+        if scene.startswith("name")
+        else SCENE.replace("stitch = 5.5", f"stitch = 5.5\n{scene}")
+    )
+    places["scene"].write_text(text.replace("{tri}", str(places["tri"])))
     argv = [argument.format(**places) for argument in arguments.split()]
     if tool == "knitmech" and "--cache-dir" not in argv:
         argv += ["--cache-dir", str(tmp_path / "cache")]

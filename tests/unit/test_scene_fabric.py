@@ -110,16 +110,20 @@ def test_a_part_held_by_nothing_and_an_unknown_boundary_are_refused():
 
 
 def test_a_gmsh_file_names_are_checked_before_anything_runs(tmp_path):
-    (tmp_path / "part.geo").write_text(
+    geometry = (
         "Point(1) = {0, 0, 0}; Point(2) = {10, 0, 0}; Point(3) = {10, 10, 0};\n"
         "Point(4) = {0, 10, 0}; Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4};\n"
         "Line(4) = {4, 1}; Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n"
         'Physical Curve("grip") = {4}; Physical Curve("pull") = {2};\n'
         'Physical Surface("panel") = {1};\n'
     )
+    (tmp_path / "part.geo").write_text(geometry)  # gmsh meshes it with triangles
     data = {**BASE, "fabric": {"preset": "cotton-20s2", "stitch": 5.5}}
     data["fabric"]["mesh"] = {"file": "part.geo"}
     data["boundary"] = [{"name": "grip", "kind": "clamp"}, {"name": "top", "kind": "free"}]
+    (problem,) = problems_of_with_base(data, tmp_path)
+    assert problem.startswith("fabric.mesh.file: part.geo: the mesh has Triangle 3 elements")
+    (tmp_path / "part.geo").write_text(geometry + "Recombine Surface{1};\n")
     with pytest.raises(SceneError) as caught:
         scene_from_dict(data, base=tmp_path)
     assert caught.value.problems == [
@@ -197,4 +201,47 @@ def test_a_graded_stitch_outside_the_family_or_with_svk_is_refused():
     mixed = [{"name": "fabric", "stitch": "5.5 + 0 * x", "svk": {"course_stiffness": 1.0}}]
     assert problems_of({**BASE, "region": mixed}) == [
         "region[0]: give one of svk, knit values, not several"
+    ]
+
+
+def test_a_graded_stitch_on_a_gmsh_file_is_planned_from_its_element_centres(tmp_path):
+    (tmp_path / "strip.geo").write_text(
+        "Point(1) = {0, 0, 0}; Point(2) = {100, 0, 0}; Point(3) = {100, 20, 0};\n"
+        "Point(4) = {0, 20, 0}; Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4};\n"
+        "Line(4) = {4, 1}; Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n"
+        "Transfinite Curve{1, 3} = 11; Transfinite Curve{2, 4} = 3; Transfinite Surface{1};\n"
+        'Recombine Surface{1}; Physical Curve("grip") = {4}; Physical Surface("panel") = {1};\n'
+    )
+    data = {**BASE, "fabric": {"preset": "cotton-20s2", "stitch": 5.5}}
+    data["fabric"]["mesh"] = {"file": "strip.geo"}
+    data["boundary"] = [{"name": "grip", "kind": "clamp"}]
+    # 10 mm quads: centres at x = 5 ... 95 mm, so the stitch spans 5.2 + 0.005 x = 5.225 ... 5.675
+    data["region"] = [{"name": "panel", "stitch": "5.2 + 0.005 * x"}]
+    (panel,) = scene_from_dict(data, base=tmp_path).part.regions
+    assert panel.members == (5.0, 5.5, 6.0)
+    data["region"] = [{"name": "panel", "stitch": "4.5 + 0.01 * (x - 5)"}]  # 4.5 ... 5.4
+    (panel,) = scene_from_dict(data, base=tmp_path).part.regions
+    assert panel.members == (4.5, 5.0, 5.5)
+    data["fabric"]["mesh"]["refinements"] = 1  # 5 mm quads: centres at 2.5 ... 97.5 mm
+    assert problems_of_with_base(data, tmp_path) == [
+        "region[0].stitch: 4.475 ... 5.425 mm over the region leaves the family's range "
+        "[4.5, 7] mm of cotton-20s2"
+    ]
+
+
+def test_a_part_without_a_knit_is_one_problem_naming_the_regions_that_need_one():
+    shape = {"kind": "rectangle"}
+    held = [{"name": "bottom", "kind": "clamp"}]
+    svk = {"course_stiffness": 1.0}
+    band = {"name": "band", "where": "y > 10", "svk": svk}
+    bare = {"fabric": {"shape": shape}, "region": [{"name": "fabric"}, band], "boundary": held}
+    assert problems_of(bare) == [
+        "fabric: no knit for region[0] 'fabric': give [fabric] preset and stitch, or "
+        "wale_width, course_height, yarn_radius and youngs_modulus, or the region a preset, "
+        "surface or svk"
+    ]
+    own = {"fabric": {"shape": shape}, "region": [{"name": "fabric", "svk": svk}], "boundary": held}
+    assert problems_of(own) == [
+        "fabric: no knit (the scene's own, for its geometry and meso stages): give [fabric] "
+        "preset and stitch, or wale_width, course_height, yarn_radius and youngs_modulus"
     ]

@@ -18,15 +18,22 @@ one physical number against an expectation computed another way.
 * plate with a hole (isotropic SVK variant without Poisson contraction, small strain): far
   from the hole the stress is the nominal force per width (Saint-Venant); beside the hole it
   is raised (at most the Kirsch factor 3 times the finite-width factor of Heywood).
+
+Besides: the bias-extension run's results folder (curves, figures, every XDMF field against
+the displacement it was computed from and the SVK law), its rerun from the cache, and a
+two-region plate with a hole under `mpirun -n 2` against one rank.
 """
 
+import json
 import tomllib
 from pathlib import Path
 
+import h5py
 import numpy as np
 import pytest
+from PIL import Image
 
-from fabric_dolfinx.material import surface_material
+from fabric_dolfinx.material import OrthotropicSVK, surface_material
 from fabric_dolfinx.solve import SolverOptions
 from fabric_dolfinx.tension import TensionSetup
 from fabric_dolfinx.tension_spec import TensionTest
@@ -118,9 +125,7 @@ def test_bias_extension_central_zone_follows_the_pure_shear_kinematics(tmp_path,
     lock when stiff yarns run diagonally across them)."""
 
     def edit(data):
-        svk(course_stiffness=100.0, wale_stiffness=100.0, poissons_ratio=0.0, shear_stiffness=0.05)(
-            data
-        )
+        svk(**STIFF_YARNS)(data)
         data["boundary"][1]["displacement"] = [0.0, 5.0]
         data["macro"]["steps"] = 4
 
@@ -133,6 +138,83 @@ def test_bias_extension_central_zone_follows_the_pure_shear_kinematics(tmp_path,
     measured = np.array(part["probes"]["centre"]["shear_angle"])[1:]
     np.testing.assert_allclose(measured, kinematic, rtol=0.05)
     assert measured[-1] > 10.0
+    check_results_folder(tmp_path / "out", part, STIFF_YARNS, angle=45.0, top=(0.0, 5.0))
+    # unchanged, every stage comes from the cache; no surface stage: the SVK part needs none
+    again, result = run_example("bias_extension", tmp_path / "again", cache, edit)
+    statuses = {record["stage"]: record["status"] for record in result.summary["stages"]}
+    assert statuses == {"geometry": "cached", "fabric": "cached"}
+    assert again["boundaries"] == part["boundaries"]
+
+
+STIFF_YARNS = {"course_stiffness": 100.0, "wale_stiffness": 100.0, "poissons_ratio": 0.0}
+STIFF_YARNS["shear_stiffness"] = 0.05
+FIELDS = (
+    "displacement",
+    "green_lagrange_strain",
+    "cauchy_stress",
+    "principal_stress",
+    "principal_direction",
+    "region",
+    "stitch",
+    "course_direction",
+)
+
+
+def check_results_folder(folder, part, constants, angle, top):
+    """The files of a one-region SVK part whose `top` boundary is moved by `top` (mm):
+    curves.json = the summary's curves; a PNG per loaded boundary; the XDMF fields at the last
+    step against what they must be: the prescribed displacement on the top edge, the strain
+    of the bilinear displacement at each cell centre, the Cauchy stress of the SVK law at
+    `angle` (degrees) from that strain, its principal values and direction, region 0, stitch 0
+    (no knit), the course direction `angle`."""
+    curves = json.loads((folder / "fabric" / "curves.json").read_text())
+    assert curves == part["boundaries"]
+    for name in ("top", "bottom"):
+        with Image.open(folder / "figures" / f"fabric_{name}.png") as image:
+            assert min(image.size) > 100
+    xdmf = (folder / "paraview" / "fabric.xdmf").read_text()
+    assert all(f'Attribute Name="{name}"' in xdmf for name in FIELDS)
+    with h5py.File(folder / "paraview" / "fabric.h5", "r") as h5:
+        X = h5["Mesh/mesh/geometry"][:]
+        quads = h5["Mesh/mesh/topology"][:]
+        last = sorted(h5["Function/displacement"], key=lambda t: float(t.replace("_", ".")))[-1]
+        field = {name: h5[f"Function/{name}/{last}"][:] for name in FIELDS}
+    # XDMF stores vectors with 3 and tensors with 3 x 3 components
+    assert last == "1"
+    u = field["displacement"][:, :2]
+    on_top = np.isclose(X[:, 1], X[:, 1].max())
+    np.testing.assert_allclose(u[on_top], np.tile(top, (on_top.sum(), 1)), atol=1e-12)
+    # bilinear quads (XDMF vertex order: counter-clockwise) at the centre
+    dN = np.array([[-0.5, 0.5, 0.5, -0.5], [-0.5, -0.5, 0.5, 0.5]])
+    J = np.einsum("ak,ckb->cba", dN, X[quads])  # dX/dxi per cell
+    grad_u = np.einsum("ak,ckb->cba", dN, u[quads]) @ np.linalg.inv(J)
+    F = np.eye(2) + grad_u
+    E = 0.5 * (np.transpose(F, (0, 2, 1)) @ F - np.eye(2))
+    np.testing.assert_allclose(
+        field["green_lagrange_strain"].reshape(-1, 3, 3)[:, :2, :2], E, atol=1e-12
+    )
+    C = OrthotropicSVK(**constants).plane_stress_matrix()
+    phi = np.radians(angle)
+    R = np.array([[np.cos(phi), -np.sin(phi)], [np.sin(phi), np.cos(phi)]])
+    Em = R.T @ E @ R
+    Sm = np.zeros_like(Em)
+    Sm[:, 0, 0] = C[0, 0] * Em[:, 0, 0] + C[0, 1] * Em[:, 1, 1]
+    Sm[:, 1, 1] = C[1, 0] * Em[:, 0, 0] + C[1, 1] * Em[:, 1, 1]
+    Sm[:, 0, 1] = Sm[:, 1, 0] = C[2, 2] * Em[:, 0, 1]
+    S = R @ Sm @ R.T
+    cauchy = F @ S @ np.transpose(F, (0, 2, 1)) / np.linalg.det(F)[:, None, None]
+    written = field["cauchy_stress"].reshape(-1, 3, 3)[:, :2, :2]
+    np.testing.assert_allclose(written, cauchy, atol=1e-9 * np.abs(cauchy).max())
+    largest, smallest = field["principal_stress"][:, 0], field["principal_stress"][:, 1]
+    direction = field["principal_direction"][:, :2]
+    np.testing.assert_allclose(largest + smallest, np.trace(written, axis1=1, axis2=2), atol=1e-12)
+    np.testing.assert_allclose(largest * smallest, np.linalg.det(written), atol=1e-12)
+    np.testing.assert_allclose(
+        np.einsum("cij,cj->ci", written, direction), largest[:, None] * direction, atol=1e-12
+    )
+    np.testing.assert_array_equal(field["region"].ravel(), 0.0)
+    np.testing.assert_array_equal(field["stitch"].ravel(), 0.0)
+    np.testing.assert_allclose(field["course_direction"].ravel(), angle, rtol=1e-15)
 
 
 @pytest.mark.slow
@@ -188,3 +270,46 @@ def test_graded_strip_with_a_constant_stitch_equals_the_plain_knit(tmp_path, cac
             atol=1e-12,
         )
     assert graded["boundaries"]["top"]["force"][-1][1] > 0.1
+
+
+@pytest.mark.mpi
+@pytest.mark.slow
+def test_a_multi_region_part_gives_the_same_answer_under_mpirun(tmp_path):
+    """The plate with a hole, its knit (the shipped surface) with a band of SVK material whose
+    course direction varies with y, through `knitmech run` on one rank and under `mpirun -n
+    2` ([macro] ranks; the fabric stage's cache key does not hold the ranks, so each run has
+    a cache of its own)."""
+
+    def edit(ranks):
+        def change(data):
+            data["macro"] = {"ranks": ranks, "steps": 3}
+            data["boundary"][1]["displacement"] = [2.0, 5.0]
+            data["region"] = [
+                {"name": "fabric", "angle": 90.0},
+                {
+                    "name": "band",
+                    "where": "abs(y - 50) < 12",
+                    "angle": "30 + 0.2 * y",
+                    "svk": {"course_stiffness": 0.5, "wale_stiffness": 1.0, "poissons_ratio": 0.2},
+                },
+            ]
+
+        return change
+
+    parts = [
+        run_example(
+            "plate_with_hole", tmp_path / f"out{ranks}", tmp_path / f"c{ranks}", edit(ranks)
+        )
+        for ranks in (1, 2)
+    ]
+    (serial, _), (parallel, _) = parts
+    assert (serial["ranks"], parallel["ranks"]) == (1, 2)
+    assert serial["dofs"] == parallel["dofs"]
+    for name, curve in serial["boundaries"].items():
+        for key in ("force", "displacement"):
+            np.testing.assert_allclose(
+                parallel["boundaries"][name][key], curve[key], rtol=1e-8, atol=1e-11
+            )
+    for name, probe in serial["probes"].items():
+        np.testing.assert_allclose(parallel["probes"][name]["cauchy"], probe["cauchy"], atol=1e-10)
+    assert serial["boundaries"]["top"]["force"][-1][1] > 0.1
