@@ -33,11 +33,14 @@ cases = []
 path = "{surface}"
 [macro]
 directions = ["course"]
-elements = 4
-steps = 4
-max_strain = 0.1
+elements = 24
+steps = 80
+max_strain = 0.2
 ranks = 2
 """
+"""A macro stage that lasts well beyond the 0.5 s the test waits after mpirun started (with 4 x 4
+elements and 4 steps it ended within 2 s on a quiet machine, and the signal came after the
+stage was cached)."""
 
 
 def processes_mentioning(text: str) -> list[str]:
@@ -77,7 +80,7 @@ def test_sigterm_in_the_mpi_macro_stage_leaves_nothing_and_the_rerun_resumes(tmp
         while not processes_mentioning(f"{results}/.stage-"):  # mpirun has started
             assert run.poll() is None and time.monotonic() < deadline, ended_early(run)
             time.sleep(0.2)
-        time.sleep(2.0)  # the ranks are starting up or solving
+        time.sleep(0.5)  # the ranks are starting up or solving
         run.send_signal(signal.SIGTERM)
         _, stderr = run.communicate(timeout=60)
     finally:
