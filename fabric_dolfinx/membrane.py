@@ -17,6 +17,7 @@ __all__ = [
     "MembraneForms",
     "MembraneStress",
     "cauchy_stress",
+    "cell_measure",
     "deformation_gradient",
     "green_lagrange_strain",
     "membrane_forms",
@@ -81,6 +82,18 @@ def membrane_stress(u: ufl.Coefficient, law: StressLaw, angle=0.0) -> MembraneSt
     return MembraneStress(F, E, material_strain, S, P, cauchy_stress(F, S))
 
 
+def cell_measure(space, quadrature_degree: int | None = None, measure=None):
+    """The cell measure of the membrane forms: `measure` (e.g. `dx(region)` of a cell-tagged
+    mesh; default the whole mesh of `space`) with a Gauss rule exact to `quadrature_degree`
+    (default twice the element degree: 2 x 2 points for Q1, 3 x 3 for Q2)."""
+    if quadrature_degree is None:
+        quadrature_degree = 2 * space.ufl_element().degree()
+    metadata = {"quadrature_degree": quadrature_degree}
+    if measure is None:
+        return ufl.dx(domain=space.mesh, metadata=metadata)
+    return measure.reconstruct(metadata=metadata)
+
+
 def membrane_forms(
     u: ufl.Coefficient,
     law: StressLaw,
@@ -106,13 +119,7 @@ def membrane_forms(
             Its metadata is replaced by the quadrature degree.
     """
     space = u.function_space
-    if quadrature_degree is None:
-        quadrature_degree = 2 * space.ufl_element().degree()
-    metadata = {"quadrature_degree": quadrature_degree}
-    if measure is None:
-        dx = ufl.dx(domain=space.mesh, metadata=metadata)
-    else:
-        dx = measure.reconstruct(metadata=metadata)
+    dx = cell_measure(space, quadrature_degree, measure)
     v = ufl.TestFunction(space)
     du = ufl.TrialFunction(space)
     F = deformation_gradient(u)

@@ -29,7 +29,7 @@ import numpy as np
 import ufl
 
 from fabric_dolfinx.material import StressLaw, rotation
-from fabric_dolfinx.membrane import MembraneForms
+from fabric_dolfinx.membrane import MembraneForms, cell_measure
 from rve_rod.errors import InputError, check_positive
 
 __all__ = [
@@ -165,13 +165,7 @@ def membrane3d_forms(
     (see `membrane.membrane_forms`). Arguments as there.
     """
     space = u.function_space
-    if quadrature_degree is None:
-        quadrature_degree = 2 * space.ufl_element().degree()
-    metadata = {"quadrature_degree": quadrature_degree}
-    if measure is None:
-        dx = ufl.dx(domain=space.mesh, metadata=metadata)
-    else:
-        dx = measure.reconstruct(metadata=metadata)
+    dx = cell_measure(space, quadrature_degree, measure)
     v, du = ufl.TestFunction(space), ufl.TrialFunction(space)
     T = frame.tangents
     F = surface_deformation_gradient(u, frame)
