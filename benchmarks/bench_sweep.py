@@ -33,7 +33,7 @@ import numpy as np
 
 from rve_rod.surface import read_surface
 
-EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "sweep_cotton_stitch.toml"
+EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "sweeps" / "cotton_stitch.toml"
 CONFIGURATIONS = (("local", 1), ("local", 2), ("mpi", 2), ("mpi", 3))
 """(executor, jobs or ranks) measured; mpi ranks include the driver."""
 PREDICTED_WORKERS = (8, 64, 256)
