@@ -27,6 +27,7 @@ import time
 from typing import NamedTuple
 
 import numpy as np
+from poisson_sensitivity import at, ratio  # the sensitivity table's reading of a run
 
 from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.loop import (
@@ -167,22 +168,6 @@ class _Evaluated(NamedTuple):
     """A contact evaluation as `image_weights` reads it."""
 
     contacts: object
-
-
-def at(result: RveResult, strain: float, name: str) -> float:
-    """Series `name` at the output state of `strain`, NaN if the run stopped before it."""
-    strains = result.series("strain")
-    hit = np.flatnonzero(np.isclose(strains, strain, atol=1e-9))
-    return float(result.series(name)[hit[0]]) if hit.size else float("nan")
-
-
-def ratio(result: RveResult) -> str:
-    """-lateral / axial strain at 20 %, or where the run stopped."""
-    if not result.steps:
-        return "no unloaded equilibrium"
-    if not result.complete:
-        return f"stopped at {100 * result.steps[-1].strain:.0f} %"
-    return f"{-at(result, 0.2, 'lateral_strain') / 0.2:.3f}"
 
 
 def lateral_split(result: RveResult, case_name: str) -> str:

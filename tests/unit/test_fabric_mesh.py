@@ -2,24 +2,11 @@
 
 import numpy as np
 import pytest
-import ufl
-from dolfinx import fem
 from dolfinx.mesh import CellType
-from mpi4py import MPI
+from mesh_measures import integrate
 
 from fabric_dolfinx.mesh import MESH_DIRECTORY, plate_with_hole, read_geo, rectangle_patch
 from rve_rod.errors import InputError
-
-
-def integrate(tagged, name=None):
-    """Area of the mesh, or length of boundary `name` (mm^2, mm), summed over ranks."""
-    domain = tagged.mesh
-    if name is None:
-        form = 1.0 * ufl.dx(domain=domain)
-    else:
-        ds = ufl.Measure("ds", domain=domain, subdomain_data=tagged.facet_tags)
-        form = 1.0 * ds(tagged.boundaries[name])
-    return domain.comm.allreduce(fem.assemble_scalar(fem.form(form)), op=MPI.SUM)
 
 
 def test_rectangle_patch_has_the_requested_elements_and_tagged_edges():

@@ -4,25 +4,12 @@ import math
 
 import numpy as np
 import pytest
-import ufl
-from dolfinx import fem
-from mpi4py import MPI
+from mesh_measures import integrate
 
 from fabric_dolfinx.field_expression import FieldExpression
 from fabric_dolfinx.part_spec import MeshSpec
 from fabric_dolfinx.shapes import make_mesh
 from rve_rod.errors import InputError
-
-
-def integrate(tagged, name=None):
-    """Area of the mesh, or length of boundary `name` (mm^2, mm), summed over ranks."""
-    domain = tagged.mesh
-    if name is None:
-        form = 1.0 * ufl.dx(domain=domain)
-    else:
-        ds = ufl.Measure("ds", domain=domain, subdomain_data=tagged.facet_tags)
-        form = 1.0 * ds(tagged.boundaries[name])
-    return domain.comm.allreduce(fem.assemble_scalar(fem.form(form)), op=MPI.SUM)
 
 
 def test_rectangle_strip_has_the_element_size_and_its_boundaries():
