@@ -4,11 +4,14 @@ import argparse
 import json
 import sys
 
+from rve_rod import limits
 from rve_rod.jsonable import to_jsonable
 from rve_rod.outputs import ignore_broken_pipe
 from rve_rod.presets import Fabric, make_fabric, preset_names, stitch_values
+from rve_rod.rve.cell import CellSettings
 
 __all__ = [
+    "add_control_points_argument",
     "add_fabric_arguments",
     "fabric_from_args",
     "print_json",
@@ -33,6 +36,18 @@ def add_fabric_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--youngs-modulus", type=float, help="E0 of the yarn (MPa)")
     group.add_argument("--poissons-ratio", type=float, help="nu of the yarn (-)")
     group.add_argument("--friction", type=float, help="mu, yarn-on-yarn friction (-)")
+
+
+def add_control_points_argument(parser: argparse.ArgumentParser) -> None:
+    """`--control-points`: control points per quarter loop of the RVE (rve_rod.limits range)."""
+    low, high = limits.CONTROL_POINTS
+    parser.add_argument(
+        "--control-points",
+        type=int,
+        default=CellSettings().control_points,
+        help=f"control points per quarter loop of every RVE run, {low} to {high} (the periodic "
+        "yarn curve has about 4 times as many)",
+    )
 
 
 def fabric_from_args(args: argparse.Namespace, *, need_material: bool = True) -> Fabric:

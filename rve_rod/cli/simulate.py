@@ -9,7 +9,12 @@ import argparse
 import sys
 
 from rve_rod import limits
-from rve_rod.cli.common import add_fabric_arguments, fabric_from_args, print_json
+from rve_rod.cli.common import (
+    add_control_points_argument,
+    add_fabric_arguments,
+    fabric_from_args,
+    print_json,
+)
 from rve_rod.errors import ConvergenceError
 from rve_rod.limits import check_count
 from rve_rod.outputs import check_output_file, check_output_folder
@@ -49,13 +54,7 @@ def register(subparsers) -> None:
     )
     parser.add_argument("--angle", type=float, default=0.0, help="ray angle (deg) of biaxial")
     parser.add_argument("--steps", type=int, default=21, help="output states including zero")
-    parser.add_argument(
-        "--control-points",
-        type=int,
-        default=CellSettings().control_points,
-        help=f"control points per quarter loop, {limits.CONTROL_POINTS[0]} to "
-        f"{limits.CONTROL_POINTS[1]} (the periodic yarn curve has about 4 times as many)",
-    )
+    add_control_points_argument(parser)
     parser.add_argument(
         "--penetration-limit",
         type=float,

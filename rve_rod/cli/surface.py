@@ -10,14 +10,18 @@ import sys
 
 from rve_rod import limits
 from rve_rod.cache import ResultCache, default_runs_dir
-from rve_rod.cli.common import add_fabric_arguments, fabric_from_args, print_json
+from rve_rod.cli.common import (
+    add_control_points_argument,
+    add_fabric_arguments,
+    fabric_from_args,
+    print_json,
+)
 from rve_rod.homogenize.executors import add_executor_argument
 from rve_rod.homogenize.fit import FitOptions, FitReport
 from rve_rod.homogenize.generate import GenerationError, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
 from rve_rod.limits import check_count
 from rve_rod.outputs import check_output_file, check_output_folder
-from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.engine import fabric_settings, surface_engine
 from rve_rod.surface import (
     STRESS_GROUPS,
@@ -66,13 +70,7 @@ def register(subparsers) -> None:
         default=defaults.max_tension,
         help="largest tensile strain of a ray component (the sampled domain's upper end)",
     )
-    parser.add_argument(
-        "--control-points",
-        type=int,
-        default=CellSettings().control_points,
-        help=f"control points per quarter loop of every RVE run, {limits.CONTROL_POINTS[0]} to "
-        f"{limits.CONTROL_POINTS[1]} (the periodic yarn curve has about 4 times as many)",
-    )
+    add_control_points_argument(parser)
     parser.add_argument(
         "--spans",
         type=int,
