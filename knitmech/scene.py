@@ -21,6 +21,7 @@ from knitmech.scene_space import SPACE_TABLES
 from rve_rod import limits
 from rve_rod.errors import InputError
 from rve_rod.presets import Fabric, load_preset, make_fabric
+from rve_rod.rve.yarn import BENDING_MODELS
 
 __all__ = [
     "DEFAULT_SURFACE",
@@ -72,7 +73,9 @@ class FabricSpec:
     """The knitted fabric: a preset (with stitch value) and/or explicit values (mm, MPa).
 
     Explicit values override the preset's; without a preset, wale_width, course_height,
-    yarn_radius and youngs_modulus are required.
+    yarn_radius and youngs_modulus are required. `bending` is the RVE's model of the yarn's
+    bending and twisting rigidity (`rve_rod.rve.yarn.BENDING_MODELS`; "free-fibres" needs a
+    preset with fibre data).
     """
 
     preset: str | None = None
@@ -83,6 +86,7 @@ class FabricSpec:
     youngs_modulus: float | None = None
     poissons_ratio: float | None = None
     friction: float | None = None
+    bending: str = "section"
 
 
 @dataclass(frozen=True)
@@ -192,7 +196,9 @@ class Scene:
 
     def fabric_model(self) -> Fabric:
         """The yarn and knit of the scene: the preset's values with the explicit ones on top."""
-        return make_fabric(**asdict(self.fabric))
+        values = asdict(self.fabric)
+        del values["bending"]  # a model choice of the RVE, not fabric data
+        return make_fabric(**values)
 
 
 def default_scene_path() -> Path:
@@ -286,6 +292,7 @@ _TYPES: dict[str, dict[str, tuple[type, ...]]] = {
         "youngs_modulus": (float,),
         "poissons_ratio": (float,),
         "friction": (float,),
+        "bending": (str,),
     },
     "meso": {"cases": (list,), "max_strain": (float,), "steps": (int,), "control_points": (int,)},
     "surface": {
@@ -342,6 +349,10 @@ def _check_values(
         problems.append(f"fabric.poissons_ratio: {fabric.poissons_ratio} is outside [0, 0.5)")
     if fabric.friction is not None and fabric.friction < 0:
         problems.append(f"fabric.friction: {fabric.friction} must be >= 0")
+    if fabric.bending not in BENDING_MODELS:
+        problems.append(
+            f"fabric.bending: {fabric.bending!r} is unknown (valid: {', '.join(BENDING_MODELS)})"
+        )
     # a preset or stitch of the wrong type is reported once, not again as unknown or missing
     reported = {
         key for key in ("preset", "stitch") if any(p.startswith(f"fabric.{key}:") for p in problems)

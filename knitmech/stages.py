@@ -111,7 +111,7 @@ def plan_run(scene: Scene, level: Fidelity) -> RunPlan:
     """Resolve `scene` with `level` into the settings of every stage."""
     scene = scene.resolved(level)
     fabric = scene.fabric_model()
-    rve = fabric_settings(fabric, scene.meso.control_points)
+    rve = fabric_settings(fabric, scene.meso.control_points, scene.fabric.bending)
     sampling = SamplingPlan(
         rays=scene.surface.rays,
         max_tension=scene.surface.max_strain,

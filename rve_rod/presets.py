@@ -2,7 +2,9 @@
 
 The data file `rve_rod/data/single_jersey.toml` is a copy of the project's reference data
 (Weeger et al.; Vassiliadis et al. 2007), so nothing depends on files outside the package at
-run time. Preset names use dashes (`cotton-20s2`); the TOML tables use underscores.
+run time, with one addition: the staple fibres of the cotton yarn (`[fibre.*]`, the yarn's
+`linear_density` and `fibre`; sources in the file), which only the free-fibre bending rigidity
+of the yarn model reads. Preset names use dashes (`cotton-20s2`); the TOML tables use underscores.
 """
 
 import tomllib
@@ -17,6 +19,7 @@ __all__ = [
     "MAX_WALE_WIDTH_RADII",
     "MAX_YOUNGS_MODULUS",
     "Fabric",
+    "Fibres",
     "Knit",
     "Yarn",
     "load_preset",
@@ -36,6 +39,36 @@ MAX_COURSE_HEIGHT_RADII = 70.0
 
 
 @dataclass(frozen=True)
+class Fibres:
+    """The staple fibres of a spun yarn, for its free-fibre bending rigidity.
+
+    Attributes:
+        yarn_linear_density: T, the yarn's linear density (tex = g/km).
+        fibre_linear_density: T_f, one fibre's (tex).
+        specific_flexural_rigidity: a fibre's bending rigidity / T_f^2 (mN mm^2 / tex^2).
+        specific_torsional_rigidity: a fibre's twisting rigidity / T_f^2 (mN mm^2 / tex^2).
+        name: the fibre, e.g. "cotton".
+    """
+
+    yarn_linear_density: float
+    fibre_linear_density: float
+    specific_flexural_rigidity: float
+    specific_torsional_rigidity: float
+    name: str = ""
+
+    def __post_init__(self):
+        check_positive("yarn linear_density", self.yarn_linear_density, "tex")
+        check_positive("fibre linear_density", self.fibre_linear_density, "tex")
+        if self.fibre_linear_density > self.yarn_linear_density:
+            raise InputError(
+                f"fibre linear_density={self.fibre_linear_density:g} tex is outside the valid "
+                f"range (0, {self.yarn_linear_density:g}] tex (at most the yarn's)"
+            )
+        check_positive("specific_flexural_rigidity", self.specific_flexural_rigidity)
+        check_positive("specific_torsional_rigidity", self.specific_torsional_rigidity)
+
+
+@dataclass(frozen=True)
 class Yarn:
     """Yarn material and section.
 
@@ -45,6 +78,7 @@ class Yarn:
         poissons_ratio: nu (-), in [0, 0.5).
         friction_coefficient: mu, yarn-on-yarn Coulomb friction (-), >= 0.
         name: preset name, or "" for a yarn given explicitly.
+        fibres: its staple fibres, or None where they are not known.
     """
 
     minimal_radius: float
@@ -52,6 +86,7 @@ class Yarn:
     poissons_ratio: float = 0.3
     friction_coefficient: float = 0.15
     name: str = ""
+    fibres: Fibres | None = None
 
     def __post_init__(self):
         check_positive("yarn_radius", self.minimal_radius, "mm")
@@ -142,6 +177,7 @@ def load_preset(preset: str, stitch: float | None = None) -> Fabric:
         poissons_ratio=yarn_table["poissons_ratio"],
         friction_coefficient=yarn_table["friction_coefficient"],
         name=yarn_key.replace("_", "-"),
+        fibres=_fibres(yarn_table),
     )
     stitches = stitch_values(preset)
     if isinstance(table["wale_width"], list):
@@ -222,6 +258,20 @@ def make_fabric(
         yarn=replace(yarn, **{k: v for k, v in yarn_overrides.items() if v is not None}),
         knit=replace(knit, **{k: v for k, v in knit_overrides.items() if v is not None}),
         name=preset or "",
+    )
+
+
+def _fibres(yarn_table: dict) -> Fibres | None:
+    """The yarn's staple fibres from the data file, or None when it names none."""
+    if "fibre" not in yarn_table:
+        return None
+    fibre = reference_data()["fibre"][yarn_table["fibre"]]
+    return Fibres(
+        yarn_linear_density=yarn_table["linear_density"],
+        fibre_linear_density=fibre["linear_density"],
+        specific_flexural_rigidity=fibre["specific_flexural_rigidity"],
+        specific_torsional_rigidity=fibre["specific_torsional_rigidity"],
+        name=yarn_table["fibre"],
     )
 
 

@@ -11,6 +11,7 @@ Who checks what:
   RVE_FAST, SHIPPED_SURFACE_FIT, MAIN_JOB_FAST, LOOP_LENGTHS, LOOP_SHAPE_EXPERIMENT:
   tests/regression/
   RVE_PAPER_RESOLUTION: tests/validation/test_rve_cotton.py
+  RVE_FREE_FIBRES: tests/validation/test_free_fibre_bending.py
   RVE_FRICTION_CYCLE: tests/verification/test_rve_cell.py
   DEMOS: tests/validation/test_fabric_demos.py
   IMAGING: tests/unit/test_demo_measure_photo.py (the photo of demos/demo_measure_photo.py)
@@ -105,6 +106,34 @@ RVE_PAPER_RESOLUTION = {
     "vassiliadis strip-biaxial-course force 20 %": Pin(68.77789686667425, SOLVED, VALIDATION),
     "vassiliadis strip-biaxial-wale force 10 %": Pin(18.89259159200303, SOLVED, VALIDATION),
     "vassiliadis strip-biaxial-wale force 20 %": Pin(79.76493215231264, SOLVED, VALIDATION),
+}
+
+# The RVE with the free-fibre bending rigidity (`YarnSettings(bending="free-fibres")`: the rods
+# bend and twist with the sum of the cotton fibres' rigidities) at the paper's resolution (68
+# control points, 0-20 % in 21 states), cotton 20s/2 at stitch 4.5, 5.5 and 7.0: the runs of
+# tests/validation/test_free_fibre_bending.py; forces in gf/cm, Poisson ratios at 20 %.
+# Measured at the commit that added them (version 0.2.1 with the fibre data of
+# rve_rod/data/single_jersey.toml).
+FREE = "docs/validation.md (The yarn's bending rigidity)"
+RVE_FREE_FIBRES = {
+    "cotton 4.5 course force 10 %": Pin(11.864988192759233, SOLVED, FREE),
+    "cotton 4.5 course force 20 %": Pin(25.904375541316348, SOLVED, FREE),
+    "cotton 4.5 nu12 20 %": Pin(0.35639713581884835, SOLVED, FREE),
+    "cotton 4.5 wale force 10 %": Pin(23.77912508684148, SOLVED, FREE),
+    "cotton 4.5 wale force 20 %": Pin(60.21954263226411, SOLVED, FREE),
+    "cotton 4.5 nu21 20 %": Pin(0.4801910696422579, SOLVED, FREE),
+    "cotton 5.5 course force 10 %": Pin(4.400490313524636, SOLVED, FREE),
+    "cotton 5.5 course force 20 %": Pin(9.903529346833178, SOLVED, FREE),
+    "cotton 5.5 nu12 20 %": Pin(0.3127069438020441, SOLVED, FREE),
+    "cotton 5.5 wale force 10 %": Pin(19.29850128189384, SOLVED, FREE),
+    "cotton 5.5 wale force 20 %": Pin(50.36121889035427, SOLVED, FREE),
+    "cotton 5.5 nu21 20 %": Pin(0.5952894800090669, SOLVED, FREE),
+    "cotton 7.0 course force 10 %": Pin(1.4948215706697443, SOLVED, FREE),
+    "cotton 7.0 course force 20 %": Pin(3.634473061816846, SOLVED, FREE),
+    "cotton 7.0 nu12 20 %": Pin(0.20236937399739308, SOLVED, FREE),
+    "cotton 7.0 wale force 10 %": Pin(11.542289024528504, SOLVED, FREE),
+    "cotton 7.0 wale force 20 %": Pin(34.12056244204894, SOLVED, FREE),
+    "cotton 7.0 nu21 20 %": Pin(0.7041789109128593, SOLVED, FREE),
 }
 
 # Fraction of the work dissipated by friction on a strip-biaxial cycle 0 -> 15 % -> 0 in 31
@@ -208,6 +237,7 @@ BALL_BURST = {
 TABLES = {
     "RVE_FAST": RVE_FAST,
     "RVE_PAPER_RESOLUTION": RVE_PAPER_RESOLUTION,
+    "RVE_FREE_FIBRES": RVE_FREE_FIBRES,
     "RVE_FRICTION_CYCLE": RVE_FRICTION_CYCLE,
     "SHIPPED_SURFACE_FIT": SHIPPED_SURFACE_FIT,
     "MAIN_JOB_FAST": MAIN_JOB_FAST,

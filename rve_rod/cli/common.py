@@ -9,8 +9,10 @@ from rve_rod.jsonable import to_jsonable
 from rve_rod.outputs import ignore_broken_pipe
 from rve_rod.presets import Fabric, make_fabric, preset_names, stitch_values
 from rve_rod.rve.cell import CellSettings
+from rve_rod.rve.yarn import BENDING_MODELS, YarnSettings
 
 __all__ = [
+    "add_bending_argument",
     "add_control_points_argument",
     "add_fabric_arguments",
     "fabric_from_args",
@@ -47,6 +49,17 @@ def add_control_points_argument(parser: argparse.ArgumentParser) -> None:
         default=CellSettings().control_points,
         help=f"control points per quarter loop of every RVE run, {low} to {high} (the periodic "
         "yarn curve has about 4 times as many)",
+    )
+
+
+def add_bending_argument(parser: argparse.ArgumentParser) -> None:
+    """`--bending`: how the rods' bending and twisting rigidity is found (YarnSettings.bending)."""
+    parser.add_argument(
+        "--bending",
+        choices=BENDING_MODELS,
+        default=YarnSettings().bending,
+        help="the rods' bending and twisting rigidity: of the yarn's section (the paper's "
+        "model) or the sum of its staple fibres' (needs fibre data: cotton-20s2)",
     )
 
 

@@ -10,6 +10,7 @@ import sys
 
 from rve_rod import limits
 from rve_rod.cli.common import (
+    add_bending_argument,
     add_control_points_argument,
     add_fabric_arguments,
     fabric_from_args,
@@ -26,7 +27,7 @@ from rve_rod.rve.simulation import (
     RveStep,
     simulate,
 )
-from rve_rod.rve.yarn import YarnSettings
+from rve_rod.rve.yarn import YarnSettings, check_bending
 
 __all__ = [
     "register",
@@ -55,6 +56,7 @@ def register(subparsers) -> None:
     parser.add_argument("--angle", type=float, default=0.0, help="ray angle (deg) of biaxial")
     parser.add_argument("--steps", type=int, default=21, help="output states including zero")
     add_control_points_argument(parser)
+    add_bending_argument(parser)
     parser.add_argument(
         "--penetration-limit",
         type=float,
@@ -82,13 +84,18 @@ def run_simulate(args: argparse.Namespace) -> int:
         check_output_folder("--vtk", args.vtk)
     check_count("--control-points", args.control_points, limits.CONTROL_POINTS)
     fabric = fabric_from_args(args)
+    check_bending(fabric, args.bending)
     strain = args.max_strain
     case = load_case(args.case, strain, args.steps, args.angle)
     settings = RveSettings(
         cell=CellSettings(
             control_points=args.control_points, penetration_limit=args.penetration_limit
         ),
-        yarn=YarnSettings(second_moment=args.second_moment, friction=not args.frictionless),
+        yarn=YarnSettings(
+            second_moment=args.second_moment,
+            friction=not args.frictionless,
+            bending=args.bending,
+        ),
     )
     try:
         result = simulate(fabric, case, settings, on_step=_progress)

@@ -11,6 +11,7 @@ import sys
 from rve_rod import limits
 from rve_rod.cache import ResultCache, default_runs_dir
 from rve_rod.cli.common import (
+    add_bending_argument,
     add_control_points_argument,
     add_fabric_arguments,
     fabric_from_args,
@@ -71,6 +72,7 @@ def register(subparsers) -> None:
         help="largest tensile strain of a ray component (the sampled domain's upper end)",
     )
     add_control_points_argument(parser)
+    add_bending_argument(parser)
     parser.add_argument(
         "--spans",
         type=int,
@@ -119,7 +121,7 @@ def run_surface(args: argparse.Namespace) -> int:
         max_tension=args.max_strain,
     )
     fit = FitOptions(spans=args.spans, shear_spans=args.shear_spans)
-    engine = surface_engine(fabric_settings(fabric, args.control_points))
+    engine = surface_engine(fabric_settings(fabric, args.control_points, args.bending))
     cache = ResultCache(cache_dir or default_runs_dir())
     try:
         generated = generate_surface(

@@ -17,6 +17,7 @@ __all__ = [
     "PAPER_CIRCLE",
     "SOLID_CIRCLE",
     "SectionStiffness",
+    "free_fibre_rigidity",
 ]
 
 SOLID_CIRCLE = "solid"
@@ -26,6 +27,27 @@ PAPER_CIRCLE = "paper"
 """The value printed in Weeger et al.'s knit paper, I = pi r^4 / 12 (see design.md)."""
 
 _SECOND_MOMENT_FACTORS = {SOLID_CIRCLE: 0.25, PAPER_CIRCLE: 1.0 / 12.0}
+
+
+def free_fibre_rigidity(
+    specific_rigidity: float, fibre_linear_density: float, yarn_linear_density: float
+) -> float:
+    """Bending (or twisting) rigidity of a spun yarn whose fibres bend each about its own axis
+    (N mm^2): the sum over its n = T / T_f fibres of R T_f^2 each, R T_f T.
+
+    The lower bound of a yarn's rigidity, reached when the fibres slip freely past each other
+    (Platt, Klein & Hamburger 1959; Owen 1965: staple yarns bend close to it); the solid rod,
+    E I of the whole section, is the upper one.
+
+    Args:
+        specific_rigidity: R, a fibre's rigidity / T_f^2 (mN mm^2 / tex^2).
+        fibre_linear_density: T_f (tex).
+        yarn_linear_density: T (tex).
+    """
+    r = check_positive("specific_rigidity", specific_rigidity, "mN mm^2/tex^2")
+    t_f = check_positive("fibre_linear_density", fibre_linear_density, "tex")
+    t = check_positive("yarn_linear_density", yarn_linear_density, "tex")
+    return 1e-3 * r * t_f * t
 
 
 def cowper_shear_correction(poissons_ratio: float) -> float:

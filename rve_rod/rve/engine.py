@@ -12,7 +12,7 @@ from rve_rod.presets import Fabric
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase, Shear
 from rve_rod.rve.simulation import RveSettings, simulate
-from rve_rod.rve.yarn import YarnSettings
+from rve_rod.rve.yarn import YarnSettings, check_bending
 
 __all__ = [
     "RodRve",
@@ -50,13 +50,16 @@ class RodRve:
         return result.to_rve_run()
 
 
-def fabric_settings(fabric: Fabric, control_points: int) -> RveSettings:
+def fabric_settings(fabric: Fabric, control_points: int, bending: str = "section") -> RveSettings:
     """The RVE settings of every run for `fabric` (meso runs and surface runs alike):
-    `control_points` per quarter loop curve; a yarn without friction (mu = 0) runs without
-    the friction path (no slip history), everything else at its default."""
+    `control_points` per quarter loop curve, the yarn's `bending` model
+    (`rve_rod.rve.yarn.BENDING_MODELS`); a yarn without friction (mu = 0) runs without the
+    friction path (no slip history), everything else at its default. Raises InputError when
+    the bending model cannot model the fabric's yarn (`check_bending`)."""
+    check_bending(fabric, bending)
     return RveSettings(
         cell=CellSettings(control_points=control_points),
-        yarn=YarnSettings(friction=fabric.yarn.friction_coefficient > 0.0),
+        yarn=YarnSettings(friction=fabric.yarn.friction_coefficient > 0.0, bending=bending),
     )
 
 

@@ -11,7 +11,7 @@ geometry and the cell first. Both return an `RveResult`, or raise `ConvergenceEr
 import logging
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from typing import NamedTuple
 
 import numpy as np
@@ -186,7 +186,7 @@ class RveResult:
             "case": self.case.name,
             "case_settings": self.case.__dict__,
             "fabric": {"name": self.fabric.name, **self.fabric.knit.__dict__},
-            "yarn": {**self.fabric.yarn.__dict__},
+            "yarn": asdict(self.fabric.yarn),
             "adjusted_radius": self.yarn.radius,
             "radius_adjusted": self.yarn.adjusted,
             "contact_exponent": self.yarn.law.exponent,

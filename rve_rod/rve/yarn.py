@@ -7,11 +7,15 @@ From yarn (r0, E0, nu, mu) and knit (w) as design.md states it (Weeger et al.):
   section of radius r; A scaled by (r0/r)^4 and C by (r0/r)^6 (radius compensation (r0/r)^2
   and (r0/r)^4, knitting pre-tension (r0/r)^2 on both);
 * second moment of area I = pi r^4/4 (solid circle, default) or the paper's pi r^4/12;
+  or, with `YarnSettings.bending = "free-fibres"`, the bending and twisting rigidities of the
+  yarn's staple fibres summed (`rve_rod.rod.section.free_fibre_rigidity`, the yarn's `Fibres`)
+  in place of E_C I and G_C J, scaled by the pre-tension (r0/r)^2 only (they are the true
+  yarn's; docs/validation.md, "The yarn's bending rigidity");
 * contact: compressible-yarn penalty law k = 0.01 E0 (r0/r)^8, p = 3 - (r0/r)^3 on the
   penetration g = 2r - d (`rve_rod.contact.CompressibleYarnLaw`), Coulomb friction mu.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import NamedTuple
 
 from rve_rod.contact import CompressibleYarnLaw, CoulombFriction
@@ -20,12 +24,20 @@ from rve_rod.errors import InputError, check_positive
 from rve_rod.geometry.loop import adjusted_radius
 from rve_rod.presets import Fabric
 from rve_rod.rod import PAPER_CIRCLE, SOLID_CIRCLE, SectionStiffness
+from rve_rod.rod.section import free_fibre_rigidity
 
 __all__ = [
+    "BENDING_MODELS",
     "YarnModel",
     "YarnSettings",
+    "check_bending",
     "yarn_model",
 ]
+
+
+BENDING_MODELS = ("section", "free-fibres")
+"""How the rods' rotational stiffness C is found: "section", E_C I and G_C J of the yarn's
+section (the paper's; I from `second_moment`), or "free-fibres", the sum of its fibres'."""
 
 
 @dataclass(frozen=True)
@@ -39,6 +51,7 @@ class YarnSettings:
         friction: apply Coulomb friction with the yarn's coefficient (default True); False
             makes the scene frictionless (no slip history at all).
         friction_stiffness_ratio: tangential penalty k_t / k (default 1).
+        bending: one of BENDING_MODELS (default "section").
     """
 
     second_moment: str = SOLID_CIRCLE
@@ -46,6 +59,7 @@ class YarnSettings:
     contact_stiffness_factor: float = DEFAULT_STIFFNESS_FACTOR
     friction: bool = True
     friction_stiffness_ratio: float = 1.0
+    bending: str = "section"
 
     def __post_init__(self):
         if self.second_moment not in (SOLID_CIRCLE, PAPER_CIRCLE):
@@ -56,6 +70,15 @@ class YarnSettings:
         check_positive("rotational_modulus_factor", self.rotational_modulus_factor)
         check_positive("contact_stiffness_factor", self.contact_stiffness_factor)
         check_positive("friction_stiffness_ratio", self.friction_stiffness_ratio)
+        if self.bending not in BENDING_MODELS:
+            raise InputError(
+                f"bending={self.bending!r} is unknown; valid: {', '.join(BENDING_MODELS)}"
+            )
+        if self.bending == "free-fibres" and self.second_moment != SOLID_CIRCLE:
+            raise InputError(
+                f"second_moment={self.second_moment!r} applies to bending='section' only; "
+                "bending='free-fibres' takes the rigidities from the yarn's fibres"
+            )
 
 
 class YarnModel(NamedTuple):
@@ -101,6 +124,8 @@ def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnM
         poissons_ratio=yarn.poissons_ratio,
         second_moment=settings.second_moment,
     ).scaled(translational=ratio**4, rotational=ratio**6)
+    if settings.bending == "free-fibres":
+        section = _free_fibre_section(section, fabric, ratio)
     friction = None
     if settings.friction and yarn.friction_coefficient > 0.0:
         friction = CoulombFriction.for_law(
@@ -114,3 +139,29 @@ def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnM
         law=law,
         friction=friction,
     )
+
+
+def check_bending(fabric: Fabric, bending: str) -> None:
+    """Raise InputError unless `bending` (one of BENDING_MODELS) can model `fabric`'s yarn:
+    "free-fibres" needs the yarn's fibre data."""
+    if bending not in BENDING_MODELS:
+        raise InputError(f"bending={bending!r} is unknown; valid: {', '.join(BENDING_MODELS)}")
+    if bending == "free-fibres" and fabric.yarn.fibres is None:
+        raise InputError(
+            f"bending='free-fibres' needs the yarn's fibres (linear densities, specific "
+            f"rigidities); yarn {fabric.yarn.name or '(given by values)'} has none; presets "
+            "with fibre data: cotton-20s2"
+        )
+
+
+def _free_fibre_section(section: SectionStiffness, fabric: Fabric, ratio: float):
+    """`section` with C from the yarn's fibres (bending and torsion), times the pre-tension
+    scaling (r0/r)^2 of the paper's model."""
+    check_bending(fabric, "free-fibres")
+    fibres = fabric.yarn.fibres
+    bending, torsion = (
+        free_fibre_rigidity(rigidity, fibres.fibre_linear_density, fibres.yarn_linear_density)
+        * ratio**2
+        for rigidity in (fibres.specific_flexural_rigidity, fibres.specific_torsional_rigidity)
+    )
+    return replace(section, bending_1=bending, bending_2=bending, torsion=torsion)

@@ -82,6 +82,14 @@ TABLE = [
     ("fabric-dolfinx", f"{SVK} --xdmf {{missing}}/o.xdmf", "", 2, "--xdmf {missing}/o.xdmf"),
     ("fabric-dolfinx", f"{SVK} --plot {{dir}}", "", 2, "--plot {dir}: is a folder"),
     ("fabric-dolfinx", "tension --svk -1,2,0.3,1", "", 2, "course_stiffness=-1 N/mm must be > 0"),
+    (
+        "rve-rod",
+        "simulate --preset vassiliadis-sample2 --bending free-fibres",
+        "",
+        2,
+        "bending='free-fibres' needs the yarn's fibres",
+    ),
+    ("knitmech", "run {scene}", "bending = 'wood'", 2, "fabric.bending: 'wood' is unknown"),
     # hangs and runaway resources before
     ("rve-rod", f"simulate {FABRIC} --control-points 100000", "", 2, "[20, 300]"),
     ("rve-rod", f"simulate {FABRIC} --steps 1000000", "", 2, "steps=1000000 is outside"),

@@ -6,6 +6,7 @@ import pytest
 
 from rve_rod.errors import InputError
 from rve_rod.rod import PAPER_CIRCLE, SectionStiffness
+from rve_rod.rod.section import free_fibre_rigidity
 
 
 def test_circular_section_values():
@@ -48,3 +49,29 @@ def test_knit_scalings_multiply_a_and_c():
 def test_bad_input_names_parameter(kwargs, message):
     with pytest.raises(InputError, match=message):
         SectionStiffness.circular(**kwargs)
+
+
+def test_free_fibre_rigidity_is_the_sum_over_circular_fibres():
+    # Independent: n = T / T_f circular fibres of modulus E and density rho, each of area
+    # a = T_f / rho, bending E pi a_r^4 / 4 = E a^2 / (4 pi); the specific rigidity of such a
+    # fibre is R = E / (4 pi rho^2) in consistent units.
+    E = 7700.0  # MPa (cotton's tensile modulus, Morton & Hearle Table 17.2)
+    rho = 1.52e-3  # g/mm^3
+    t_f, t = 0.17, 59.1  # tex = g/km = 1e-6 g/mm
+    area = t_f * 1e-6 / rho  # mm^2
+    one_fibre = E * area**2 / (4 * math.pi)  # N mm^2
+    n = t / t_f
+    specific = one_fibre / t_f**2 * 1e3  # mN mm^2 / tex^2
+    assert free_fibre_rigidity(specific, t_f, t) == pytest.approx(n * one_fibre, rel=1e-12)
+    # and against the solid yarn of the same fibre area: n times smaller
+    solid = E * (n * area) ** 2 / (4 * math.pi)
+    assert free_fibre_rigidity(specific, t_f, t) == pytest.approx(solid / n, rel=1e-12)
+
+
+@pytest.mark.parametrize("argument", [0, 1, 2])
+def test_free_fibre_rigidity_refuses_non_positive_values(argument):
+    values = [0.53, 0.17, 59.1]
+    values[argument] = 0.0
+    name = ("specific_rigidity", "fibre_linear_density", "yarn_linear_density")[argument]
+    with pytest.raises(InputError, match=f"{name}=0 .* must be > 0"):
+        free_fibre_rigidity(*values)

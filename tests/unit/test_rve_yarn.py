@@ -53,3 +53,27 @@ def test_bad_settings_are_refused():
         YarnSettings(second_moment="hollow")
     with pytest.raises(InputError, match="rotational_modulus_factor=-1"):
         YarnSettings(rotational_modulus_factor=-1)
+
+
+def test_free_fibre_bending_sums_the_cotton_fibres_with_the_pre_tension_scaling():
+    fabric = load_preset("cotton-20s2", 5.5)
+    section = yarn_model(fabric).section
+    free = yarn_model(fabric, YarnSettings(bending="free-fibres")).section
+    ratio = 0.19 / (fabric.knit.wale_width / 8)
+    # 59.1 tex of 0.17 tex fibres, 0.53 and 0.16 mN mm^2/tex^2 (Morton & Hearle), times (r0/r)^2
+    assert free.bending_1 == pytest.approx(0.53e-3 * 0.17 * 59.1 * ratio**2, rel=1e-12)
+    assert free.bending_2 == free.bending_1
+    assert free.torsion == pytest.approx(0.16e-3 * 0.17 * 59.1 * ratio**2, rel=1e-12)
+    # the translational stiffness and the contact law are the paper's, unchanged
+    assert free.axial == section.axial and free.shear_1 == section.shear_1
+    # a staple yarn bends at about an eighth of the solid section's rigidity
+    assert free.bending_1 / section.bending_1 == pytest.approx(0.130, abs=1e-3)
+
+
+def test_free_fibre_bending_needs_fibre_data_and_no_second_moment():
+    with pytest.raises(InputError, match="needs the yarn's fibres"):
+        yarn_model(load_preset("vassiliadis-sample2"), YarnSettings(bending="free-fibres"))
+    with pytest.raises(InputError, match="applies to bending='section' only"):
+        YarnSettings(bending="free-fibres", second_moment="paper")
+    with pytest.raises(InputError, match="bending='rope' is unknown"):
+        YarnSettings(bending="rope")

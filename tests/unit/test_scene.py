@@ -1,9 +1,13 @@
 """Scene files: the default scene reads, and bad scenes are refused with one line per problem."""
 
+from pathlib import Path
+
 import pytest
 
 from knitmech.fidelity import LEVELS
 from knitmech.scene import SceneError, load_scene, scene_from_dict
+from knitmech.stages import plan_run
+from rve_rod.errors import InputError
 from rve_rod.presets import load_preset
 
 COTTON = {"fabric": {"preset": "cotton-20s2", "stitch": 5.5}}
@@ -114,3 +118,24 @@ def test_a_preset_of_the_wrong_type_is_one_problem():
     with pytest.raises(SceneError) as caught:
         scene_from_dict({"fabric": {"preset": 5, "stitch": 5.5}})
     assert caught.value.problems == ["fabric.preset: expected str, got int 5"]
+
+
+def test_the_free_fibre_example_plans_the_free_fibre_rve():
+    path = Path(__file__).resolve().parents[2] / "examples" / "models" / "free_fibre_bending.toml"
+    scene = load_scene(path)
+    plan = plan_run(scene, LEVELS[scene.fidelity])
+    assert plan.rve.yarn.bending == "free-fibres"
+    assert plan_run(load_scene(), LEVELS["balanced"]).rve.yarn.bending == "section"
+    # the fibre data come with the preset; a yarn given by values has none and is refused
+    assert plan.fabric.yarn.fibres.name == "cotton"
+    explicit = {
+        "fabric": {
+            "wale_width": 1.33,
+            "course_height": 1.26,
+            "yarn_radius": 0.19,
+            "youngs_modulus": 80.0,
+            "bending": "free-fibres",
+        }
+    }
+    with pytest.raises(InputError, match="needs the yarn's fibres"):
+        plan_run(scene_from_dict(explicit), LEVELS["fast"])
