@@ -1,6 +1,7 @@
 """The deformed loop at 0 and 20 % course- and wale-wise, and where the lateral stress goes.
 
-Cotton 20s/2 stitch 5.5, coarse settings (20 control points, 11 states). Writes
+Cotton 20s/2 stitch 5.5, coarse settings (20 control points, 11 states; `--control-points`,
+`--bending free-fibres` for the yarn's free-fibre bending rigidity, which needs 36 or more). Writes
 `poisson_loop<suffix>.png` into the figures folder: for each direction the face (x/y), side
 (y/z) and end (x/z) views of the cell's yarn (blue, with its contacts: red slipping, orange
 sticking) among its neighbours (grey), the unloaded loop dashed. Prints, for the last state
@@ -10,6 +11,7 @@ the normal and the friction loads of the contacts with the images (gf/cm): the f
 is what holds the fabric against contracting.
 
     .venv/bin/python benchmarks/poisson_figures.py [--figures docs/figures] [--frictionless]
+        [--control-points 20] [--bending section|free-fibres] [--suffix _name]
 """
 
 import argparse
@@ -26,7 +28,7 @@ from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings, LoopCell
 from rve_rod.rve.load_cases import load_case
 from rve_rod.rve.simulation import RveResult, RveSettings, run_cell
-from rve_rod.rve.yarn import YarnSettings, yarn_model
+from rve_rod.rve.yarn import BENDING_MODELS, YarnSettings, yarn_model
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
 CASES = ("uniaxial-course", "uniaxial-wale")
@@ -117,11 +119,14 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--figures", default="docs/figures")
     parser.add_argument("--frictionless", action="store_true")
+    parser.add_argument("--control-points", type=int, default=20)
+    parser.add_argument("--bending", choices=BENDING_MODELS, default="section")
     parser.add_argument("--suffix", default="", help="appended to the figure's file name")
     args = parser.parse_args()
     fabric = load_preset("cotton-20s2", 5.5)
     settings = RveSettings(
-        cell=CellSettings(control_points=20), yarn=YarnSettings(friction=not args.frictionless)
+        cell=CellSettings(control_points=args.control_points),
+        yarn=YarnSettings(friction=not args.frictionless, bending=args.bending),
     )
     figure = plt.figure(figsize=(13, 11))
     grid = figure.add_gridspec(4, 2, width_ratios=(1.0, 1.25))
@@ -141,6 +146,8 @@ def main() -> None:
             f"| {name} | {result.poisson_ratio:.3f} | {cut:.3g} | {normal:.3g} | {friction:.3g} |"
         )
     label = "frictionless" if args.frictionless else "mu = 0.15"
+    if args.bending != "section":
+        label += f", {args.bending} bending"
     figure.suptitle(f"cotton 20s/2 stitch 5.5, {label}: unloaded (dashed) and at 20 %")
     figure.tight_layout()
     path = Path(args.figures) / f"poisson_loop{args.suffix}.png"
