@@ -137,6 +137,8 @@ def case_inputs(case: RveCase, run) -> dict:
     """All inputs of one run for its cache key; display names (of presets) are left out."""
     fabric = case.fabric
     yarn = {k: v for k, v in dataclasses.asdict(fabric.yarn).items() if k != "name"}
+    if yarn["fibres"] is not None:
+        yarn["fibres"] = {k: v for k, v in yarn["fibres"].items() if k != "name"}
     return {
         "yarn": yarn,
         "knit": dataclasses.asdict(fabric.knit),

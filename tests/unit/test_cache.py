@@ -17,7 +17,7 @@ from rve_rod.homogenize.analytic import AnalyticRve
 from rve_rod.homogenize.generate import case_inputs
 from rve_rod.homogenize.samples import RveCase
 from rve_rod.homogenize.sampling import LoadPath
-from rve_rod.presets import Fabric, Knit, Yarn, load_preset
+from rve_rod.presets import Fabric, Knit, load_preset
 
 BASE_FABRIC = load_preset("cotton-20s2", 5.5)
 BASE_CASE = RveCase(BASE_FABRIC, LoadPath("biaxial", 22.5, 0.2, 10))
@@ -41,11 +41,22 @@ def variants():
         for field in dataclasses.fields(component):
             if field.name == "name":
                 continue
-            changed = {field.name: perturbed(getattr(component, field.name))}
-            changed_fabric = dataclasses.replace(
-                fabric, **{part: dataclasses.replace(component, **changed)}
-            )
-            yield f"{part}.{field.name}", RveCase(changed_fabric, BASE_CASE.load), BASE_ENGINE
+            value = getattr(component, field.name)
+            if dataclasses.is_dataclass(value):  # the yarn's fibres: each of their values
+                changes = {
+                    f"{field.name}.{inner.name}": dataclasses.replace(
+                        value, **{inner.name: perturbed(getattr(value, inner.name))}
+                    )
+                    for inner in dataclasses.fields(value)
+                    if inner.name != "name"
+                }
+            else:
+                changes = {field.name: perturbed(value)}
+            for name, changed in changes.items():
+                changed_fabric = dataclasses.replace(
+                    fabric, **{part: dataclasses.replace(component, **{field.name: changed})}
+                )
+                yield f"{part}.{name}", RveCase(changed_fabric, BASE_CASE.load), BASE_ENGINE
     for name, load in (
         ("load.angle", LoadPath("biaxial", 45.0, 0.2, 10)),
         ("load.max_load", LoadPath("biaxial", 22.5, 0.21, 10)),
@@ -74,7 +85,8 @@ def test_keys_change_with_every_input():
 def test_keys_do_not_change_otherwise():
     base = cache_key(case_inputs(BASE_CASE, BASE_ENGINE))
     # rebuilt from equal values, renamed, ints for floats, -0.0 for 0.0: same key
-    yarn = Yarn(**{**dataclasses.asdict(BASE_FABRIC.yarn), "name": "my cotton"})
+    fibres = dataclasses.replace(BASE_FABRIC.yarn.fibres, name="gossypium")
+    yarn = dataclasses.replace(BASE_FABRIC.yarn, name="my cotton", fibres=fibres)
     knit = Knit(**dataclasses.asdict(BASE_FABRIC.knit))
     same = RveCase(Fabric(yarn, knit, name="explicit"), LoadPath("biaxial", 22.5, 0.2, 10))
     assert cache_key(case_inputs(same, AnalyticRve())) == base
