@@ -15,7 +15,10 @@ Each row prints the force at 10 and 20 % (gf/cm), the Poisson ratio at 20 % (or 
 stopped) and the wall time.
 
     .venv/bin/python benchmarks/poisson_bending.py [--control-points 68] [--steps 21]
-        [--tables sweep fibres stitches]
+        [--tables sweep fibres stitches] [--plot docs/figures/poisson_bending.png]
+
+`--plot` draws the sweep: nu12 and nu21 at 20 % against the C factor for both loops, with the
+tests' bands (within 25 % of 0.41 and 0.72) and the free-fibre factor of the data file.
 
 About 10-20 s per row at 68 control points and 21 states on a quiet machine.
 """
@@ -24,7 +27,12 @@ import argparse
 import dataclasses
 import time
 from collections.abc import Callable
+from pathlib import Path
 
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
 from poisson_sensitivity import at, ratio  # the sensitivity table's reading of a run
 
 from rve_rod.errors import ConvergenceError
@@ -86,9 +94,12 @@ def run(
         return error.history
 
 
-def row(label: str, runs: Callable[[str], RveResult]) -> str:
+def row(label: str, runs: Callable[[str], RveResult], collect: list | None = None) -> str:
+    """The table row of both runs; `collect` receives (course, wale) results."""
     started = time.perf_counter()
     course, wale = (runs(case) for case in CASES)
+    if collect is not None:
+        collect.append((course, wale))
     return (
         f"| {label} | {at(course, 0.1, 'force_gf_per_cm'):.4g} |"
         f" {at(course, 0.2, 'force_gf_per_cm'):.4g} | {ratio(course)} |"
@@ -104,7 +115,9 @@ RULE = "---:|---:|---:|---:|---:|---:|---:|"
 def sweep(args: argparse.Namespace) -> None:
     fabric = load_preset("cotton-20s2", 5.5)
     print(f"| loop | C factor | {HEADER}\n|---|---:|{RULE}")
+    results = {}
     for profile in ("band", "parabolic"):
+        results[profile] = []
         for factor in SWEEP_FACTORS:
             print(
                 row(
@@ -112,9 +125,42 @@ def sweep(args: argparse.Namespace) -> None:
                     lambda case, profile=profile, factor=factor: run(
                         fabric, case, args, profile=profile, change=scaled_rotational(factor)
                     ),
+                    results[profile],
                 ),
                 flush=True,
             )
+    if args.plot:
+        plot_sweep(results, fabric, Path(args.plot))
+
+
+def plot_sweep(results: dict, fabric: Fabric, path: Path) -> None:
+    """nu12, nu21 at 20 % against the C factor (runs that stopped early left out)."""
+    free = yarn_model(fabric, YarnSettings(bending="free-fibres")).section.bending_1
+    factor = free / yarn_model(fabric).section.bending_1
+    figure, axes = plt.subplots(1, 2, figsize=(10, 4), sharex=True)
+    for ax, index, name, measured in zip(
+        axes, (0, 1), ("nu12 (course-wise)", "nu21 (wale-wise)"), (0.41, 0.72), strict=True
+    ):
+        ax.axhspan(0.75 * measured, 1.25 * measured, color="0.88", label="tests +-25 %")
+        ax.axhline(measured, color="0.5", lw=0.8)
+        for profile, style in (("band", "o-"), ("parabolic", "s--")):
+            points = [
+                (c, pair[index].poisson_ratio)
+                for c, pair in zip(SWEEP_FACTORS, results[profile], strict=True)
+                if pair[index].complete
+            ]
+            ax.plot(*zip(*points, strict=True), style, label=f"{profile} loop")
+        ax.axvline(factor, color="C3", lw=1, label=f"free fibres ({factor:.3f})")
+        ax.set_xscale("log")
+        ax.set_xlabel("C / C of the solid section")
+        ax.set_ylabel(f"{name} at 20 %")
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    figure.suptitle("cotton 20s/2 stitch 5.5: effective Poisson ratios against the yarn's C")
+    figure.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    figure.savefig(path, dpi=90)
+    print(f"wrote {path}")
 
 
 def fibres(args: argparse.Namespace) -> None:
@@ -154,6 +200,7 @@ def main() -> None:
     parser.add_argument("--control-points", type=int, default=68)
     parser.add_argument("--steps", type=int, default=21)
     parser.add_argument("--tables", nargs="*", choices=tuple(TABLES), default=list(TABLES))
+    parser.add_argument("--plot", help="PNG of the sweep (with --tables sweep)")
     args = parser.parse_args()
     print(
         f"cotton 20s/2, {args.control_points} control points, {args.steps} states to 20 %;"
