@@ -1,4 +1,4 @@
-"""A fabric part that moves in space: supports, pressure, a sphere indenter, load path, output.
+"""A fabric part that moves in space: supports, pressure, an indenter, load path, output.
 
 `Membrane3DProblem` assembles the forms of `fabric_dolfinx.membrane3d` on a tagged mesh
 (flat: a shape of the plane membrane; curved: a gmsh surface in space with a course field)
@@ -50,11 +50,11 @@ from petsc4py import PETSc
 from fabric_dolfinx.domain import StrainRangeCheck
 from fabric_dolfinx.material import Material
 from fabric_dolfinx.membrane3d import (
-    SphereIndenter,
+    Indenter,
     contact_pressure,
+    contact_residual,
     membrane3d_forms,
     pressure_residual,
-    sphere_contact_residual,
     surface_frame,
     surface_stress_state,
 )
@@ -126,7 +126,7 @@ class Membrane3DResult(NamedTuple):
         load_factor: (k+1,) t.
         reactions: support name -> (k+1, 3) force (Fx, Fy, Fz) the fabric receives there (N).
         indenter_force: (k+1, 3) force the fabric exerts on the indenter (N), or None.
-        indenter_travel: (k+1,) the indenter centre's travel (mm), or None.
+        indenter_travel: (k+1,) the indenter's travel (mm), or None.
         peak_displacement: (k+1,) largest deflection |u_z| of a flat part (the dome height),
             largest displacement |u| of a curved one, over the nodes (mm).
         dome_amplitude: the first step's one-mode dome height (mm), 0 when none was needed.
@@ -172,7 +172,7 @@ class Membrane3DProblem:
             (`membrane3d.curved_frame`); required for gdim 3.
         pressure: follower pressure at t = 1 (N/mm^2 = MPa), towards the normal's side.
         edge_loads: dead loads on boundaries.
-        indenter: a rigid sphere, or None.
+        indenter: a rigid sphere or plane (`membrane3d`), or None.
         stabilization: c (N/mm^3) of the normal stabilization (module docstring); 0: none.
         element_degree, quadrature_degree, options: as for the plane membrane.
     """
@@ -188,7 +188,7 @@ class Membrane3DProblem:
         side=None,
         pressure: float = 0.0,
         edge_loads: Sequence[EdgeLoad] = (),
-        indenter: SphereIndenter | None = None,
+        indenter: Indenter | None = None,
         stabilization: float = 0.0,
         element_degree: int = 1,
         quadrature_degree: int | None = None,
@@ -223,10 +223,10 @@ class Membrane3DProblem:
         self._indenter_forms = None
         if indenter is not None:
             self._check_indenter(indenter)
-            centre = self._constant(np.asarray(indenter.travel, float), np.asarray(indenter.centre))
-            term = sphere_contact_residual(self.u, indenter, centre, self.frame, dx)
+            origin = self._constant(np.asarray(indenter.travel, float), np.asarray(indenter.origin))
+            term = contact_residual(self.u, indenter, origin, self.frame, dx)
             loads = term if loads is None else loads + term
-            contact, direction = contact_pressure(self.u, indenter, centre, self.frame)
+            contact, direction = contact_pressure(self.u, indenter, origin, self.frame)
             self._indenter_forms = [fem.form(-contact * direction[i] * dx) for i in range(3)]
         if not (math.isfinite(stabilization) and stabilization >= 0.0):
             raise InputError(f"stabilization={stabilization!r} must be >= 0 (N/mm^3)")
@@ -269,17 +269,16 @@ class Membrane3DProblem:
         self._scaled.append((constant, np.asarray(full, dtype=float), offset))
         return constant
 
-    def _check_indenter(self, indenter: SphereIndenter) -> None:
-        """InputError when the sphere overlaps a node of the fabric at t = 0 (collective)."""
-        points = self.tagged.mesh.geometry.x
-        distances = np.linalg.norm(points - np.asarray(indenter.centre), axis=1)
+    def _check_indenter(self, indenter: Indenter) -> None:
+        """InputError when the indenter overlaps a node of the fabric at t = 0 (collective)."""
+        gaps = indenter.start_gaps(self.tagged.mesh.geometry.x)
         gap = self.tagged.mesh.comm.allreduce(
-            float(distances.min() - indenter.radius) if distances.size else np.inf, op=MPI.MIN
+            float(gaps.min()) if gaps.size else np.inf, op=MPI.MIN
         )
         if gap < 0.0:
             raise InputError(
-                f"indenter centre={tuple(indenter.centre)} mm with radius={indenter.radius:g} mm "
-                f"starts inside the fabric (gap {gap:.4g} mm); move it so that the gap is >= 0"
+                f"indenter {indenter.describe()} starts inside the fabric (gap {gap:.4g} mm); "
+                "move it so that the gap is >= 0"
             )
 
     def set_load_factor(self, load_factor: float) -> None:

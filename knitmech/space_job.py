@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 from dolfinx import fem
 
-from fabric_dolfinx.membrane3d import SphereIndenter
+from fabric_dolfinx.membrane3d import PlaneIndenter, SphereIndenter
 from fabric_dolfinx.membrane3d_solve import EdgeLoad, Membrane3DProblem, Membrane3DResult, Support
 from fabric_dolfinx.regions import assign_regions, cell_field
 from fabric_dolfinx.shapes import make_mesh
@@ -72,17 +72,20 @@ def run_space(job: FabricJob, region, folder: Path, comm) -> dict:
         scalars = fem.FunctionSpace(tagged.mesh, ("DG", 0))
         frame["angle"] = cell_field(scalars, cells, [region.angle], "angle", scale=np.pi / 180)
     supports, loads = space_conditions(part.boundaries)
-    sphere = None
+    indenter = None
     if space.indenter is not None:
         spec = space.indenter
-        sphere = SphereIndenter(spec.radius, spec.centre, spec.travel, spec.penalty)
+        if spec.shape == "plane":
+            indenter = PlaneIndenter(spec.point, spec.normal, spec.travel, spec.penalty)
+        else:
+            indenter = SphereIndenter(spec.radius, spec.centre, spec.travel, spec.penalty)
     problem = Membrane3DProblem(
         tagged,
         region.material,
         supports,
         pressure=space.pressure,
         edge_loads=loads,
-        indenter=sphere,
+        indenter=indenter,
         stabilization=space.stabilization,
         element_degree=job.element_degree,
         options=SolverOptions(steps=job.steps),
