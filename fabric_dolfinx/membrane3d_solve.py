@@ -34,7 +34,7 @@ import logging
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import NamedTuple
 
@@ -75,6 +75,7 @@ __all__ = [
     "Membrane3DResult",
     "Support",
     "slack_indicator",
+    "space_solver_options",
 ]
 
 logger = logging.getLogger(__name__)
@@ -150,6 +151,17 @@ class Membrane3DResult(NamedTuple):
     ranks: int
     wall_time_s: float
     path: PathResult
+
+
+def space_solver_options(steps: int) -> SolverOptions:
+    """The solver settings of parts in space (`knitmech`, the benchmarks): `steps` equal
+    steps, cut back down to 1/1024; each Newton solve starts from the extrapolation of the
+    last two converged states and halves a step that does not lower the residual (at most
+    10 times). Both are needed for contact on fine meshes of the soft knit
+    (docs/benchmarks.md: the ball burst at 40 elements)."""
+    plain = SolverOptions(steps=steps)
+    stepping = replace(plain.stepping_options(), extrapolate=True)
+    return replace(plain, line_search=10, stepping=stepping)
 
 
 def slack_indicator(stress: np.ndarray) -> np.ndarray:

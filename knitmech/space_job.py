@@ -21,10 +21,15 @@ import numpy as np
 from dolfinx import fem
 
 from fabric_dolfinx.membrane3d import PlaneIndenter, SphereIndenter
-from fabric_dolfinx.membrane3d_solve import EdgeLoad, Membrane3DProblem, Membrane3DResult, Support
+from fabric_dolfinx.membrane3d_solve import (
+    EdgeLoad,
+    Membrane3DProblem,
+    Membrane3DResult,
+    Support,
+    space_solver_options,
+)
 from fabric_dolfinx.regions import assign_regions, cell_field
 from fabric_dolfinx.shapes import make_mesh
-from fabric_dolfinx.solve import SolverOptions
 from fabric_dolfinx.surfaces3d import axis_fields
 from knitmech.fabric_job_spec import FabricJob
 from rve_rod.errors import ConvergenceError, InputError
@@ -88,7 +93,7 @@ def run_space(job: FabricJob, region, folder: Path, comm) -> dict:
         indenter=indenter,
         stabilization=space.stabilization,
         element_degree=job.element_degree,
-        options=SolverOptions(steps=job.steps),
+        options=space_solver_options(job.steps),
         **frame,
     )
     message = ""
