@@ -126,26 +126,29 @@ def _record(problem, result, seconds: float, value: float, reached: float) -> di
 CASES = {"ball": (ball, "force on the ball (N)"), "tube": (tube, "largest displacement (mm)")}
 
 
-def on_two_ranks(case: str, elements: int) -> dict:
+def on_two_ranks(case: str, elements: int, settings: dict) -> dict:
     command = ["mpirun", "-n", "2", sys.executable, __file__, "--case", case]
     command += ["--elements", str(elements), "--json"]
+    for key, value in settings.items():
+        command += [f"--{key}", str(value)]
     process = subprocess.run(
         command, capture_output=True, text=True, env=MPI_ENV, check=True, timeout=3600
     )
     return json.loads(process.stdout.strip().splitlines()[-1])
 
 
-def table(case: str, sizes) -> None:
+def table(case: str, sizes, settings: dict) -> None:
+    """One row per mesh and rank count; `settings` go to the case (e.g. stabilization)."""
     run, label = CASES[case]
-    print(f"\n{case}: {label}")
+    print(f"\n{case}: {label} {settings or ''}")
     print(
         "| elements | level | DOFs | ranks | time (s) | Newton per step (mean / max) |"
         f" cutbacks | stabilized steps | {label} |"
     )
     print("|---|---|---|---|---|---|---|---|---|")
     for elements in sizes:
-        run(elements)  # compile the forms (cached for the timed runs)
-        for record in (run(elements), on_two_ranks(case, elements)):
+        run(elements, **settings)  # compile the forms (cached for the timed runs)
+        for record in (run(elements, **settings), on_two_ranks(case, elements, settings)):
             reached = record["reached"]
             note = "" if reached == 1.0 else f" (gave up at t = {reached:.3g})"
             print(
@@ -197,9 +200,13 @@ def main() -> None:
     parser.add_argument("--json", action="store_true", help="one run as JSON (for mpirun)")
     parser.add_argument("--quick", action="store_true", help="fast and balanced meshes only")
     parser.add_argument("--sizes", help="elements across, comma-separated (default 6,10,20,40)")
+    parser.add_argument(
+        "--stabilization", type=float, help="ball: instead of the example's (N/mm^3)"
+    )
     args = parser.parse_args()
+    settings = {} if args.stabilization is None else {"stabilization": args.stabilization}
     if args.json:
-        record = CASES[args.case][0](args.elements)
+        record = CASES[args.case][0](args.elements, **settings)
         if MPI.COMM_WORLD.rank == 0:
             print(json.dumps(record))
         return
@@ -209,7 +216,7 @@ def main() -> None:
     if args.case in (None, "hencky"):
         hencky_table()
     for case in [args.case] if args.case in CASES else [] if args.case else sorted(CASES):
-        table(case, sizes)
+        table(case, sizes, settings if case == "ball" else {})
     if args.case in (None, "ball"):
         penalty_table()
 

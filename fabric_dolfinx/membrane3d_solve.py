@@ -5,8 +5,9 @@
 and follows the load path t = 0 -> 1 with the shared `LoadStepper` (cutbacks included):
 prescribed support displacements, the follower pressure and the indenter's travel all scale
 with t. After each converged step it records the reaction force (Fx, Fy, Fz) of every
-support, the indenter's force and the largest displacement, and optionally writes the cell
-fields (`Membrane3DFields`, with the slack/wrinkle indicator) to XDMF.
+support, the indenter's force, the largest displacement and the fractions of the area that
+are wrinkled or slack, and optionally writes the cell fields (`Membrane3DFields`, with the
+slack/wrinkle indicator) to XDMF.
 
 Starting from the flat state. A flat, unstressed membrane has no stiffness out of its plane
 (the tangent is singular in the normal direction), so Newton cannot take a first step under
@@ -130,6 +131,9 @@ class Membrane3DResult(NamedTuple):
         indenter_travel: (k+1,) the indenter's travel (mm), or None.
         peak_displacement: (k+1,) largest deflection |u_z| of a flat part (the dome height),
             largest displacement |u| of a curved one, over the nodes (mm).
+        wrinkled_area, slack_area: (k+1,) the fractions of the reference area whose cells are
+            wrinkled (one principal stress <= 0) and slack (both <= 0; the unloaded state is
+            slack everywhere), from the `slack` field (`Membrane3DFields`).
         dome_amplitude: the first step's one-mode dome height (mm), 0 when none was needed.
         stabilization_force: (k+1,) the normal stabilization's force of each step (N).
         outside_domain: whether strains left the response surface's sampled domain.
@@ -142,6 +146,8 @@ class Membrane3DResult(NamedTuple):
     indenter_force: np.ndarray | None
     indenter_travel: np.ndarray | None
     peak_displacement: np.ndarray
+    wrinkled_area: np.ndarray
+    slack_area: np.ndarray
     dome_amplitude: float
     stabilization_force: np.ndarray
     outside_domain: bool
@@ -389,7 +395,7 @@ class Membrane3DProblem:
         """
         self.u.x.array[:] = 0.0
         self.set_load_factor(0.0)
-        fields = Membrane3DFields(self) if xdmf is not None else None
+        fields = Membrane3DFields(self)
         self.previous.x.array[:] = 0.0
         check = None
         if self.material.domain is not None:
@@ -397,7 +403,7 @@ class Membrane3DProblem:
             mesh = self.tagged.mesh
             check = StrainRangeCheck(strain, mesh, self.material.domain, self.quadrature_degree)
         outside = [False]
-        states = [self._state(0.0)]
+        states = [self._state(0.0, fields)]
         stabilization = [0.0]
         reactions: list[dict] = []
         start = time.perf_counter()
@@ -409,14 +415,12 @@ class Membrane3DProblem:
             if check is not None:
                 outside[0] = check(step.load_factor) or outside[0]
             self.previous.x.array[:] = self.u.x.array
-            states.append(self._state(step.load_factor))
+            states.append(self._state(step.load_factor, fields))
             if output is not None:
-                fields.update()
                 fields.write(output, step.load_factor)
 
         def solve(output):
             if output is not None:
-                fields.update()
                 fields.write(output, 0.0)
             return self.stepper.run(self.set_load_factor, lambda s: after_step(s, output))
 
@@ -437,9 +441,12 @@ class Membrane3DProblem:
             path, states, (reactions, stabilization, outside[0]), time.perf_counter() - start
         )
 
-    def _state(self, load_factor: float) -> tuple:
+    def _state(self, load_factor: float, fields: "Membrane3DFields") -> tuple:
+        """(t, indenter force, peak displacement, (wrinkled, slack) area fractions); updates
+        `fields` to the current state."""
         force = self.indenter_force() if self._indenter_forms is not None else None
-        return load_factor, force, self.peak_displacement()
+        fields.update()
+        return load_factor, force, self.peak_displacement(), fields.slack_areas()
 
     def _release(self) -> dict[str, np.ndarray]:
         """After a stabilized step: Newton once more without the stabilization, from the
@@ -491,6 +498,8 @@ class Membrane3DProblem:
             indenter_force=force,
             indenter_travel=travel,
             peak_displacement=np.array([s[2] for s in states]),
+            wrinkled_area=np.array([s[3][0] for s in states]),
+            slack_area=np.array([s[3][1] for s in states]),
             dome_amplitude=self.dome_amplitude,
             stabilization_force=np.array(stabilization[: len(path.steps) + 1]),
             outside_domain=outside,
@@ -530,6 +539,10 @@ class Membrane3DFields:
         self.principal_stress = fem.Function(pairs, name="principal_stress")
         self.principal_direction = fem.Function(vectors, name="principal_direction")
         self.slack = fem.Function(scalars, name="slack")
+        self._comm = mesh.comm
+        self._owned = mesh.topology.index_map(mesh.topology.dim).size_local
+        cells = fem.assemble_vector(fem.form(ufl.TestFunction(scalars) * ufl.dx(domain=mesh)))
+        self._areas = cells.array[: self._owned].copy()  # reference area of each owned cell
         self._normal = fem.Function(vectors)
         points = plane.element.interpolation_points()
         self._expressions = [
@@ -558,6 +571,16 @@ class Membrane3DFields:
         self.principal_stress.x.array[:] = principal.ravel()
         self.principal_direction.x.array[:] = vectors[np.arange(first.size), :, first].ravel()
         self.slack.x.array[:] = slack_indicator(self.stress.x.array.reshape(-1, 2, 2))
+
+    def slack_areas(self) -> tuple[float, float]:
+        """The fractions of the reference area that are wrinkled and slack at the last
+        `update` (collective)."""
+        state = self.slack.x.array[: self._owned]
+        local = [self._areas[state == 1.0].sum(), self._areas[state == 2.0].sum()]
+        wrinkled, slack, total = self._comm.allreduce(
+            np.array([*local, self._areas.sum()]), op=MPI.SUM
+        )
+        return float(wrinkled / total), float(slack / total)
 
     def functions(self) -> tuple[fem.Function, ...]:
         """Every field, in the order they are written."""

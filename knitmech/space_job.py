@@ -10,6 +10,7 @@ component; `traction` is the dead load (tx, ty, 0); `free` imposes nothing. It w
   slack/wrinkle indicator;
 - `fabric/curves.json`: per boundary the reaction (Fx, Fy, Fz) per step; the indenter's
   force against its travel; the pressure against the largest displacement (dome height);
+  the fractions of the area that are wrinkled and slack per step;
 - `figures/fabric_indenter.png` and/or `figures/fabric_pressure.png`.
 """
 
@@ -121,6 +122,8 @@ def _summary(result: Membrane3DResult, job: FabricJob, message: str, cells: int)
         "load_factor": t,
         "reactions": result.reactions,
         "peak_displacement": result.peak_displacement,
+        "wrinkled_area": result.wrinkled_area,
+        "slack_area": result.slack_area,
         "dome_amplitude": result.dome_amplitude,
         "stabilization_force": result.stabilization_force,
     }
