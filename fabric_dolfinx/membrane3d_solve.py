@@ -132,8 +132,8 @@ class Membrane3DResult(NamedTuple):
         peak_displacement: (k+1,) largest deflection |u_z| of a flat part (the dome height),
             largest displacement |u| of a curved one, over the nodes (mm).
         wrinkled_area, slack_area: (k+1,) the fractions of the reference area whose cells are
-            wrinkled (one principal stress <= 0) and slack (both <= 0; the unloaded state is
-            slack everywhere), from the `slack` field (`Membrane3DFields`).
+            wrinkled (one principal stress <= 0) and slack (both <= 0: an unloaded SVK part
+            everywhere), from the `slack` field (`Membrane3DFields`).
         dome_amplitude: the first step's one-mode dome height (mm), 0 when none was needed.
         stabilization_force: (k+1,) the normal stabilization's force of each step (N).
         outside_domain: whether strains left the response surface's sampled domain.
