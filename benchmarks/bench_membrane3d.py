@@ -5,12 +5,14 @@ Two cases on the shipped cotton 20s/2 stitch 5.5 surface, at the mesh of each fi
 (`knitmech.fidelity`: 6, 10, 20, 40 elements across the part) and finer:
 
   ball   the ball burst of examples/ball_burst.toml (ASTM D3787: ball 25.4 mm, ring 44.45
-         mm, 12 mm travel in 12 steps, penalty 10 N/mm^3, stabilization 1e-4 N/mm^3 released
-         after every step): force on the ball, its convergence with the mesh and the penalty.
+         mm, 12 mm travel in 12 steps, the example's penalty and stabilization): force on the
+         ball, its convergence with the mesh and the penalty, and how many steps kept the
+         stabilization (could not be released).
   tube   the tube of examples/tube_inflation.toml (radius 20 mm, length 80 mm, ends
          clamped, 0.004 N/mm^2 in 10 steps): the largest displacement.
 
-For each: DOFs, wall time (s, forms compiled beforehand), Newton iterations per step
+Both with the solver settings of `knitmech` (`membrane3d_solve.space_solver_options`). For
+each: DOFs, wall time (s, forms compiled beforehand), Newton iterations per step
 (mean/max) and cutbacks; each on 1 and on 2 MPI ranks (the 2-rank runs start this script
 under mpirun with --case and --elements).
 
@@ -18,7 +20,7 @@ under mpirun with --case and --elements).
          central deflection error against Hencky's series down to 1.25 mm quads, with the
          observed convergence rate.
 
-    python benchmarks/bench_membrane3d.py [--case ball|tube|hencky] [--quick]
+    python benchmarks/bench_membrane3d.py [--case ball|tube|hencky] [--quick] [--sizes 40,80]
 """
 
 import argparse
@@ -28,23 +30,27 @@ import os
 import subprocess
 import sys
 import time
+import tomllib
 from pathlib import Path
 
+import numpy as np
 from mpi4py import MPI
 
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.membrane3d import SphereIndenter
-from fabric_dolfinx.membrane3d_solve import Membrane3DProblem, Support
+from fabric_dolfinx.membrane3d_solve import Membrane3DProblem, Support, space_solver_options
 from fabric_dolfinx.part_spec import MeshSpec
 from fabric_dolfinx.shapes import make_mesh
-from fabric_dolfinx.solve import SolverOptions
 from fabric_dolfinx.surfaces3d import axis_fields
 from rve_rod.errors import ConvergenceError
 from rve_rod.surface import read_surface
 
 ROOT = Path(__file__).resolve().parents[1]
 SURFACE = ROOT / "knitmech" / "data" / "cotton-20s2_stitch-5.5.h5"
-LEVELS = {6: "fast", 10: "balanced", 20: "accurate", 40: "(finer)"}
+BALL_BURST = tomllib.loads((ROOT / "examples" / "ball_burst.toml").read_text())
+PENALTY = BALL_BURST["indenter"]["penalty"]
+STABILIZATION = BALL_BURST["space"]["stabilization"]
+LEVELS = {6: "fast", 10: "balanced", 20: "accurate", 40: "(finer)", 80: "(finer)"}
 MPI_ENV = {
     **os.environ,
     "OMPI_ALLOW_RUN_AS_ROOT": "1",
@@ -53,7 +59,7 @@ MPI_ENV = {
 }
 
 
-def ball(elements: int, penalty: float = 10.0) -> dict:
+def ball(elements: int, penalty: float = PENALTY, stabilization: float = STABILIZATION) -> dict:
     material = surface_material(read_surface(SURFACE))
     radius = 22.225
     tagged = make_mesh(MeshSpec("disc", {"radius": radius}, element_size=2 * radius / elements))
@@ -63,8 +69,8 @@ def ball(elements: int, penalty: float = 10.0) -> dict:
         material,
         [Support("rim")],
         indenter=sphere,
-        stabilization=1e-4,
-        options=SolverOptions(steps=12),
+        stabilization=stabilization,
+        options=space_solver_options(12),
     )
     start = time.perf_counter()
     result, reached = _run(problem)
@@ -84,7 +90,7 @@ def tube(elements: int) -> dict:
         course=course,
         side=side,
         pressure=0.004,
-        options=SolverOptions(steps=10),
+        options=space_solver_options(10),
     )
     start = time.perf_counter()
     result, reached = _run(problem)
@@ -113,38 +119,43 @@ def _record(problem, result, seconds: float, value: float, reached: float) -> di
         "max_iterations": int(iterations.max()),
         "cutbacks": result.cutbacks,
         "value": float(value),
+        "stabilized": int(np.count_nonzero(result.stabilization_force[1:])),
     }
 
 
 CASES = {"ball": (ball, "force on the ball (N)"), "tube": (tube, "largest displacement (mm)")}
 
 
-def on_two_ranks(case: str, elements: int) -> dict:
+def on_two_ranks(case: str, elements: int, settings: dict) -> dict:
     command = ["mpirun", "-n", "2", sys.executable, __file__, "--case", case]
     command += ["--elements", str(elements), "--json"]
+    for key, value in settings.items():
+        command += [f"--{key}", str(value)]
     process = subprocess.run(
         command, capture_output=True, text=True, env=MPI_ENV, check=True, timeout=3600
     )
     return json.loads(process.stdout.strip().splitlines()[-1])
 
 
-def table(case: str, sizes) -> None:
+def table(case: str, sizes, settings: dict) -> None:
+    """One row per mesh and rank count; `settings` go to the case (e.g. stabilization)."""
     run, label = CASES[case]
-    print(f"\n{case}: {label}")
+    print(f"\n{case}: {label} {settings or ''}")
     print(
         "| elements | level | DOFs | ranks | time (s) | Newton per step (mean / max) |"
-        f" cutbacks | {label} |"
+        f" cutbacks | stabilized steps | {label} |"
     )
-    print("|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|")
     for elements in sizes:
-        run(elements)  # compile the forms (cached for the timed runs)
-        for record in (run(elements), on_two_ranks(case, elements)):
+        run(elements, **settings)  # compile the forms (cached for the timed runs)
+        for record in (run(elements, **settings), on_two_ranks(case, elements, settings)):
             reached = record["reached"]
             note = "" if reached == 1.0 else f" (gave up at t = {reached:.3g})"
             print(
                 f"| {elements} | {LEVELS[elements]} | {record['dofs']} | {record['ranks']} | "
                 f"{record['seconds']:.2f} | {record['mean_iterations']:.1f} / "
-                f"{record['max_iterations']} | {record['cutbacks']} | {record['value']:.6g}{note} |"
+                f"{record['max_iterations']} | {record['cutbacks']} | {record['stabilized']} | "
+                f"{record['value']:.6g}{note} |"
             )
 
 
@@ -188,17 +199,24 @@ def main() -> None:
     parser.add_argument("--elements", type=int)
     parser.add_argument("--json", action="store_true", help="one run as JSON (for mpirun)")
     parser.add_argument("--quick", action="store_true", help="fast and balanced meshes only")
+    parser.add_argument("--sizes", help="elements across, comma-separated (default 6,10,20,40)")
+    parser.add_argument(
+        "--stabilization", type=float, help="ball: instead of the example's (N/mm^3)"
+    )
     args = parser.parse_args()
+    settings = {} if args.stabilization is None else {"stabilization": args.stabilization}
     if args.json:
-        record = CASES[args.case][0](args.elements)
+        record = CASES[args.case][0](args.elements, **settings)
         if MPI.COMM_WORLD.rank == 0:
             print(json.dumps(record))
         return
     sizes = (6, 10) if args.quick else (6, 10, 20, 40)
+    if args.sizes:
+        sizes = tuple(int(size) for size in args.sizes.split(","))
     if args.case in (None, "hencky"):
         hencky_table()
     for case in [args.case] if args.case in CASES else [] if args.case else sorted(CASES):
-        table(case, sizes)
+        table(case, sizes, settings if case == "ball" else {})
     if args.case in (None, "ball"):
         penalty_table()
 

@@ -12,7 +12,9 @@ whose columns g_a = F e_a are the deformed material lines. C = F^T F (2 x 2), E 
 in the material frame, S = law(E) from the same laws as the plane membrane
 (`fabric_dolfinx.material`, N/mm per undeformed width), P = F S (3 x 2) and the weak form
 
-    R(u; v) = int P : (grad v T) dA - int p (g_1 x g_2) . v dA - contact = 0.
+    R(u; v) = int P : (grad v T) dA - int p (g_1 x g_2) . v dA - contact = 0,
+
+the contact of a rigid sphere or plane (frictionless penalty, `penalty_pressure`).
 
 The pressure p (N/mm^2) acts on the deformed surface (g_1 x g_2 dA is the deformed area
 times its normal): a follower load. On a flat reference the frame is the rotation of the
@@ -33,15 +35,18 @@ from fabric_dolfinx.membrane import MembraneForms, cell_measure
 from rve_rod.errors import InputError, check_positive
 
 __all__ = [
+    "Indenter",
+    "PlaneIndenter",
     "SphereIndenter",
     "SurfaceFrame",
     "SurfaceStress",
     "contact_pressure",
+    "contact_residual",
     "curved_frame",
     "flat_frame",
     "membrane3d_forms",
+    "penalty_pressure",
     "pressure_residual",
-    "sphere_contact_residual",
     "surface_deformation_gradient",
     "surface_frame",
     "surface_stress_state",
@@ -193,6 +198,19 @@ def pressure_residual(u, pressure, frame: SurfaceFrame, dx: ufl.Measure) -> ufl.
     return pressure * ufl.dot(ufl.cross(F[:, 0], F[:, 1]), v) * dx
 
 
+def penalty_pressure(gap, penalty: float):
+    """The contact pressure k <-gap> (N/mm^2 per undeformed area) of a penalty `penalty` k
+    (N/mm^3) at `gap` (mm, negative when the fabric is inside the indenter): the one law
+    of both indenters."""
+    return penalty * ufl.conditional(ufl.lt(gap, 0.0), -gap, 0.0)
+
+
+def _check_vectors(**vectors) -> None:
+    for name, value in vectors.items():
+        if len(value) != 3 or not np.all(np.isfinite(value)):
+            raise InputError(f"indenter {name}={value!r} needs 3 finite numbers (mm)")
+
+
 @dataclass(frozen=True)
 class SphereIndenter:
     """A rigid sphere moving along a line, in frictionless penalty contact with the fabric.
@@ -214,25 +232,88 @@ class SphereIndenter:
     def __post_init__(self):
         check_positive("radius", self.radius, "mm")
         check_positive("penalty", self.penalty, "N/mm^3")
-        for name, value in (("centre", self.centre), ("travel", self.travel)):
-            if len(value) != 3 or not np.all(np.isfinite(value)):
-                raise InputError(f"indenter {name}={value!r} needs 3 finite numbers (mm)")
+        _check_vectors(centre=self.centre, travel=self.travel)
+
+    @property
+    def origin(self) -> tuple[float, float, float]:
+        """The point that moves by t * travel: the centre (mm)."""
+        return self.centre
+
+    def gap(self, position, origin):
+        """(gap |x - c| - R mm, unit vector from the centre c = `origin` to x) at the deformed
+        position x (UFL)."""
+        offset = position - origin
+        distance = ufl.sqrt(ufl.dot(offset, offset))
+        return distance - self.radius, offset / distance
+
+    def start_gaps(self, points: np.ndarray) -> np.ndarray:
+        """The gaps (mm) of reference points (n, 3) at load factor 0."""
+        return np.linalg.norm(points - np.asarray(self.centre), axis=1) - self.radius
+
+    def describe(self) -> str:
+        return f"sphere centre={tuple(self.centre)} mm, radius={self.radius:g} mm"
 
 
-def contact_pressure(u, indenter: SphereIndenter, centre, frame: SurfaceFrame):
-    """(contact pressure k <-gap> N/mm^2, unit vector from the centre to the point) at u, for
-    the sphere centred at `centre` (a Constant (3,), mm)."""
-    offset = frame.position + u - centre
-    distance = ufl.sqrt(ufl.dot(offset, offset))
-    gap = distance - indenter.radius
-    pressure = indenter.penalty * ufl.conditional(ufl.lt(gap, 0.0), -gap, 0.0)
-    return pressure, offset / distance
+@dataclass(frozen=True)
+class PlaneIndenter:
+    """A rigid plane moving along a line, in frictionless penalty contact with the fabric.
+
+    Attributes:
+        point: (x, y, z) of a point of the plane at load factor 0 (mm).
+        normal: the plane's normal, pointing to the side the fabric stays on (any length);
+            no node of the fabric may start behind the plane.
+        travel: (dx, dy, dz) displacement of the plane at load factor 1 (mm).
+        penalty: contact stiffness k (N/mm^3), the law of the sphere (`penalty_pressure`).
+    """
+
+    point: tuple[float, float, float]
+    normal: tuple[float, float, float]
+    travel: tuple[float, float, float]
+    penalty: float
+
+    def __post_init__(self):
+        check_positive("penalty", self.penalty, "N/mm^3")
+        _check_vectors(point=self.point, normal=self.normal, travel=self.travel)
+        if not np.any(self.normal):
+            raise InputError("indenter normal=(0, 0, 0) has no direction")
+
+    @property
+    def origin(self) -> tuple[float, float, float]:
+        """The point that moves by t * travel: the plane's point (mm)."""
+        return self.point
+
+    def _unit(self) -> np.ndarray:
+        normal = np.asarray(self.normal, dtype=float)
+        return normal / np.linalg.norm(normal)
+
+    def gap(self, position, origin):
+        """(gap (x - p) . n mm, the unit normal n) at the deformed position x (UFL), p the
+        plane's point `origin`."""
+        normal = ufl.as_vector(self._unit().tolist())
+        return ufl.dot(position - origin, normal), normal
+
+    def start_gaps(self, points: np.ndarray) -> np.ndarray:
+        """The gaps (mm) of reference points (n, 3) at load factor 0."""
+        return (points - np.asarray(self.point)) @ self._unit()
+
+    def describe(self) -> str:
+        return f"plane point={tuple(self.point)} mm, normal={tuple(self.normal)}"
 
 
-def sphere_contact_residual(
-    u, indenter: SphereIndenter, centre, frame: SurfaceFrame, dx: ufl.Measure
-) -> ufl.Form:
+Indenter = SphereIndenter | PlaneIndenter
+"""A rigid indenter: it moves its `origin` by t * travel and gives the gap and the contact
+direction at a point (`gap`)."""
+
+
+def contact_pressure(u, indenter: Indenter, origin, frame: SurfaceFrame):
+    """(contact pressure k <-gap> N/mm^2, its unit direction on the fabric) at u, for the
+    indenter whose origin is at `origin` (a Constant (3,), mm)."""
+    gap, direction = indenter.gap(frame.position + u, origin)
+    return penalty_pressure(gap, indenter.penalty), direction
+
+
+def contact_residual(u, indenter: Indenter, origin, frame: SurfaceFrame, dx: ufl.Measure):
     """The contact force's virtual work int k <-gap> n . v dA (N; subtract it from R)."""
     v = ufl.TestFunction(u.function_space)
-    pressure, direction = contact_pressure(u, indenter, centre, frame)
+    pressure, direction = contact_pressure(u, indenter, origin, frame)
     return pressure * ufl.dot(direction, v) * dx

@@ -1,12 +1,13 @@
-"""A fabric part that moves in space: supports, pressure, a sphere indenter, load path, output.
+"""A fabric part that moves in space: supports, pressure, an indenter, load path, output.
 
 `Membrane3DProblem` assembles the forms of `fabric_dolfinx.membrane3d` on a tagged mesh
 (flat: a shape of the plane membrane; curved: a gmsh surface in space with a course field)
 and follows the load path t = 0 -> 1 with the shared `LoadStepper` (cutbacks included):
 prescribed support displacements, the follower pressure and the indenter's travel all scale
 with t. After each converged step it records the reaction force (Fx, Fy, Fz) of every
-support, the indenter's force and the largest displacement, and optionally writes the cell
-fields (`Membrane3DFields`, with the slack/wrinkle indicator) to XDMF.
+support, the indenter's force, the largest displacement and the fractions of the area that
+are wrinkled or slack, and optionally writes the cell fields (`Membrane3DFields`, with the
+slack/wrinkle indicator) to XDMF.
 
 Starting from the flat state. A flat, unstressed membrane has no stiffness out of its plane
 (the tangent is singular in the normal direction), so Newton cannot take a first step under
@@ -34,7 +35,7 @@ import logging
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import NamedTuple
 
@@ -50,11 +51,11 @@ from petsc4py import PETSc
 from fabric_dolfinx.domain import StrainRangeCheck
 from fabric_dolfinx.material import Material
 from fabric_dolfinx.membrane3d import (
-    SphereIndenter,
+    Indenter,
     contact_pressure,
+    contact_residual,
     membrane3d_forms,
     pressure_residual,
-    sphere_contact_residual,
     surface_frame,
     surface_stress_state,
 )
@@ -75,6 +76,7 @@ __all__ = [
     "Membrane3DResult",
     "Support",
     "slack_indicator",
+    "space_solver_options",
 ]
 
 logger = logging.getLogger(__name__)
@@ -126,9 +128,12 @@ class Membrane3DResult(NamedTuple):
         load_factor: (k+1,) t.
         reactions: support name -> (k+1, 3) force (Fx, Fy, Fz) the fabric receives there (N).
         indenter_force: (k+1, 3) force the fabric exerts on the indenter (N), or None.
-        indenter_travel: (k+1,) the indenter centre's travel (mm), or None.
+        indenter_travel: (k+1,) the indenter's travel (mm), or None.
         peak_displacement: (k+1,) largest deflection |u_z| of a flat part (the dome height),
             largest displacement |u| of a curved one, over the nodes (mm).
+        wrinkled_area, slack_area: (k+1,) the fractions of the reference area whose cells are
+            wrinkled (one principal stress <= 0) and slack (both <= 0: an unloaded SVK part
+            everywhere), from the `slack` field (`Membrane3DFields`).
         dome_amplitude: the first step's one-mode dome height (mm), 0 when none was needed.
         stabilization_force: (k+1,) the normal stabilization's force of each step (N).
         outside_domain: whether strains left the response surface's sampled domain.
@@ -141,6 +146,8 @@ class Membrane3DResult(NamedTuple):
     indenter_force: np.ndarray | None
     indenter_travel: np.ndarray | None
     peak_displacement: np.ndarray
+    wrinkled_area: np.ndarray
+    slack_area: np.ndarray
     dome_amplitude: float
     stabilization_force: np.ndarray
     outside_domain: bool
@@ -150,6 +157,17 @@ class Membrane3DResult(NamedTuple):
     ranks: int
     wall_time_s: float
     path: PathResult
+
+
+def space_solver_options(steps: int) -> SolverOptions:
+    """The solver settings of parts in space (`knitmech`, the benchmarks): `steps` equal
+    steps, cut back down to 1/1024; each Newton solve starts from the extrapolation of the
+    last two converged states and halves a step that does not lower the residual (at most
+    10 times). Both are needed for contact on fine meshes of the soft knit
+    (docs/benchmarks.md: the ball burst at 40 elements)."""
+    plain = SolverOptions(steps=steps)
+    stepping = replace(plain.stepping_options(), extrapolate=True)
+    return replace(plain, line_search=10, stepping=stepping)
 
 
 def slack_indicator(stress: np.ndarray) -> np.ndarray:
@@ -172,7 +190,7 @@ class Membrane3DProblem:
             (`membrane3d.curved_frame`); required for gdim 3.
         pressure: follower pressure at t = 1 (N/mm^2 = MPa), towards the normal's side.
         edge_loads: dead loads on boundaries.
-        indenter: a rigid sphere, or None.
+        indenter: a rigid sphere or plane (`membrane3d`), or None.
         stabilization: c (N/mm^3) of the normal stabilization (module docstring); 0: none.
         element_degree, quadrature_degree, options: as for the plane membrane.
     """
@@ -188,7 +206,7 @@ class Membrane3DProblem:
         side=None,
         pressure: float = 0.0,
         edge_loads: Sequence[EdgeLoad] = (),
-        indenter: SphereIndenter | None = None,
+        indenter: Indenter | None = None,
         stabilization: float = 0.0,
         element_degree: int = 1,
         quadrature_degree: int | None = None,
@@ -223,10 +241,10 @@ class Membrane3DProblem:
         self._indenter_forms = None
         if indenter is not None:
             self._check_indenter(indenter)
-            centre = self._constant(np.asarray(indenter.travel, float), np.asarray(indenter.centre))
-            term = sphere_contact_residual(self.u, indenter, centre, self.frame, dx)
+            origin = self._constant(np.asarray(indenter.travel, float), np.asarray(indenter.origin))
+            term = contact_residual(self.u, indenter, origin, self.frame, dx)
             loads = term if loads is None else loads + term
-            contact, direction = contact_pressure(self.u, indenter, centre, self.frame)
+            contact, direction = contact_pressure(self.u, indenter, origin, self.frame)
             self._indenter_forms = [fem.form(-contact * direction[i] * dx) for i in range(3)]
         if not (math.isfinite(stabilization) and stabilization >= 0.0):
             raise InputError(f"stabilization={stabilization!r} must be >= 0 (N/mm^3)")
@@ -269,17 +287,16 @@ class Membrane3DProblem:
         self._scaled.append((constant, np.asarray(full, dtype=float), offset))
         return constant
 
-    def _check_indenter(self, indenter: SphereIndenter) -> None:
-        """InputError when the sphere overlaps a node of the fabric at t = 0 (collective)."""
-        points = self.tagged.mesh.geometry.x
-        distances = np.linalg.norm(points - np.asarray(indenter.centre), axis=1)
+    def _check_indenter(self, indenter: Indenter) -> None:
+        """InputError when the indenter overlaps a node of the fabric at t = 0 (collective)."""
+        gaps = indenter.start_gaps(self.tagged.mesh.geometry.x)
         gap = self.tagged.mesh.comm.allreduce(
-            float(distances.min() - indenter.radius) if distances.size else np.inf, op=MPI.MIN
+            float(gaps.min()) if gaps.size else np.inf, op=MPI.MIN
         )
         if gap < 0.0:
             raise InputError(
-                f"indenter centre={tuple(indenter.centre)} mm with radius={indenter.radius:g} mm "
-                f"starts inside the fabric (gap {gap:.4g} mm); move it so that the gap is >= 0"
+                f"indenter {indenter.describe()} starts inside the fabric (gap {gap:.4g} mm); "
+                "move it so that the gap is >= 0"
             )
 
     def set_load_factor(self, load_factor: float) -> None:
@@ -378,7 +395,7 @@ class Membrane3DProblem:
         """
         self.u.x.array[:] = 0.0
         self.set_load_factor(0.0)
-        fields = Membrane3DFields(self) if xdmf is not None else None
+        fields = Membrane3DFields(self)
         self.previous.x.array[:] = 0.0
         check = None
         if self.material.domain is not None:
@@ -386,7 +403,7 @@ class Membrane3DProblem:
             mesh = self.tagged.mesh
             check = StrainRangeCheck(strain, mesh, self.material.domain, self.quadrature_degree)
         outside = [False]
-        states = [self._state(0.0)]
+        states = [self._state(0.0, fields)]
         stabilization = [0.0]
         reactions: list[dict] = []
         start = time.perf_counter()
@@ -398,14 +415,12 @@ class Membrane3DProblem:
             if check is not None:
                 outside[0] = check(step.load_factor) or outside[0]
             self.previous.x.array[:] = self.u.x.array
-            states.append(self._state(step.load_factor))
+            states.append(self._state(step.load_factor, fields))
             if output is not None:
-                fields.update()
                 fields.write(output, step.load_factor)
 
         def solve(output):
             if output is not None:
-                fields.update()
                 fields.write(output, 0.0)
             return self.stepper.run(self.set_load_factor, lambda s: after_step(s, output))
 
@@ -426,9 +441,12 @@ class Membrane3DProblem:
             path, states, (reactions, stabilization, outside[0]), time.perf_counter() - start
         )
 
-    def _state(self, load_factor: float) -> tuple:
+    def _state(self, load_factor: float, fields: "Membrane3DFields") -> tuple:
+        """(t, indenter force, peak displacement, (wrinkled, slack) area fractions); updates
+        `fields` to the current state."""
         force = self.indenter_force() if self._indenter_forms is not None else None
-        return load_factor, force, self.peak_displacement()
+        fields.update()
+        return load_factor, force, self.peak_displacement(), fields.slack_areas()
 
     def _release(self) -> dict[str, np.ndarray]:
         """After a stabilized step: Newton once more without the stabilization, from the
@@ -480,6 +498,8 @@ class Membrane3DProblem:
             indenter_force=force,
             indenter_travel=travel,
             peak_displacement=np.array([s[2] for s in states]),
+            wrinkled_area=np.array([s[3][0] for s in states]),
+            slack_area=np.array([s[3][1] for s in states]),
             dome_amplitude=self.dome_amplitude,
             stabilization_force=np.array(stabilization[: len(path.steps) + 1]),
             outside_domain=outside,
@@ -519,6 +539,10 @@ class Membrane3DFields:
         self.principal_stress = fem.Function(pairs, name="principal_stress")
         self.principal_direction = fem.Function(vectors, name="principal_direction")
         self.slack = fem.Function(scalars, name="slack")
+        self._comm = mesh.comm
+        self._owned = mesh.topology.index_map(mesh.topology.dim).size_local
+        cells = fem.assemble_vector(fem.form(ufl.TestFunction(scalars) * ufl.dx(domain=mesh)))
+        self._areas = cells.array[: self._owned].copy()  # reference area of each owned cell
         self._normal = fem.Function(vectors)
         points = plane.element.interpolation_points()
         self._expressions = [
@@ -547,6 +571,16 @@ class Membrane3DFields:
         self.principal_stress.x.array[:] = principal.ravel()
         self.principal_direction.x.array[:] = vectors[np.arange(first.size), :, first].ravel()
         self.slack.x.array[:] = slack_indicator(self.stress.x.array.reshape(-1, 2, 2))
+
+    def slack_areas(self) -> tuple[float, float]:
+        """The fractions of the reference area that are wrinkled and slack at the last
+        `update` (collective)."""
+        state = self.slack.x.array[: self._owned]
+        local = [self._areas[state == 1.0].sum(), self._areas[state == 2.0].sum()]
+        wrinkled, slack, total = self._comm.allreduce(
+            np.array([*local, self._areas.sum()]), op=MPI.SUM
+        )
+        return float(wrinkled / total), float(slack / total)
 
     def functions(self) -> tuple[fem.Function, ...]:
         """Every field, in the order they are written."""

@@ -76,6 +76,9 @@ class SolverOptions:
         divergence_factor: an attempt fails at once if the residual exceeds this times its
             initial value.
         krylov_tolerance: relative tolerance of GMRES/CG (unused by LU).
+        line_search: backtracking on the residual: a Newton step that does not lower the
+            residual 2-norm (by 1e-4 of the step's fraction) is halved, at most
+            `line_search` times, the last half kept (0: full Newton steps, the default).
         stepping: the load stepping between the equal steps; None (default): start with one
             equal step (1/steps) and never exceed it, halve on failure down to
             min_increment = 1/1024, double again after every converged step, no
@@ -90,6 +93,7 @@ class SolverOptions:
     max_iterations: int = 25
     divergence_factor: float = 1e6
     krylov_tolerance: float = 1e-10
+    line_search: int = 0
     stepping: SteppingOptions | None = None
 
     def __post_init__(self):
@@ -104,6 +108,7 @@ class SolverOptions:
         check_integer("max_iterations", self.max_iterations, 1)
         check_positive("divergence_factor", self.divergence_factor)
         check_positive("krylov_tolerance", self.krylov_tolerance)
+        check_integer("line_search", self.line_search, 0, 30)
 
     def stepping_options(self) -> SteppingOptions:
         """`stepping`, or the default for `steps` equal steps (see the attribute)."""
@@ -263,9 +268,7 @@ class LoadStepper:
             reason = self._ksp.getConvergedReason()
             if reason < 0:
                 return result(f"linear solver failed (reason {reason})")
-            self.u.vector.axpy(-1.0, self._increment)
-            self.u.x.scatter_forward()
-            norms.append(self._assemble_residual())
+            norms.append(self._step(norms[-1]))
             if not math.isfinite(norms[-1]):
                 return result("residual is not finite")
             if norms[-1] > options.divergence_factor * norms[0]:
@@ -273,6 +276,24 @@ class LoadStepper:
         if _converged(norms, tolerance, options.floor_tolerance):
             return result("converged")
         return result(f"not converged in {options.max_iterations}")
+
+    def _step(self, norm: float) -> float:
+        """u -= the Newton increment, halved while the residual does not fall below `norm`
+        (`SolverOptions.line_search`); returns the new residual norm (N)."""
+        start = self.u.vector.copy() if self.options.line_search else None
+        fraction = 1.0
+        for halving in range(self.options.line_search + 1):
+            if halving:
+                fraction *= 0.5
+                start.copy(self.u.vector)
+            self.u.vector.axpy(-fraction, self._increment)
+            self.u.x.scatter_forward()
+            new = self._assemble_residual()
+            if math.isfinite(new) and new <= (1.0 - 1e-4 * fraction) * norm:
+                break
+        if start is not None:
+            start.destroy()
+        return new
 
     def reaction_forces(self) -> dict[str, np.ndarray]:
         """Boundary name -> (Fx, Fy) N, or (Fx, Fy, Fz) for a membrane in space: the residual

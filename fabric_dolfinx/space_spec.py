@@ -1,8 +1,9 @@
 """The specification of the membrane in space, without DOLFINx (the scene reader checks it).
 
 `SpaceSpec` holds what a part in space adds to the plane part: the follower pressure, a
-sphere indenter, the normal stabilization and, for a gmsh surface in space, the course
-direction field (around or along an axis). `fabric_dolfinx.membrane3d_solve` runs it.
+rigid indenter (sphere or plane), the normal stabilization and, for a gmsh surface in
+space, the course direction field (around or along an axis).
+`fabric_dolfinx.membrane3d_solve` runs it.
 """
 
 import math
@@ -14,6 +15,7 @@ from rve_rod.errors import InputError, check_positive
 
 __all__ = [
     "COURSE_KINDS",
+    "INDENTER_SHAPES",
     "IndenterSpec",
     "SpaceSpec",
 ]
@@ -29,24 +31,52 @@ def _vector(name: str, value, length: int = 3) -> tuple[float, ...]:
     return tuple(float(v) for v in value)
 
 
+INDENTER_SHAPES = {"sphere": ("radius", "centre"), "plane": ("point", "normal")}
+"""The rigid indenters and the keys that place each (`membrane3d.SphereIndenter`,
+`membrane3d.PlaneIndenter`)."""
+
+
 @dataclass(frozen=True)
 class IndenterSpec:
-    """A rigid sphere moving along a line (`membrane3d.SphereIndenter`).
+    """A rigid sphere or plane moving along a line.
 
     Attributes:
-        radius: mm; centre: (x, y, z) mm at t = 0 (outside the fabric); travel: (dx, dy, dz)
-        mm of the centre at t = 1; penalty: contact stiffness N/mm^3.
+        travel: (dx, dy, dz) mm the indenter moves by at t = 1.
+        shape: "sphere" (radius mm, centre (x, y, z) mm at t = 0) or "plane" (point (x, y, z)
+            mm of the plane at t = 0, normal towards the fabric's side); outside the fabric
+            at t = 0.
+        penalty: contact stiffness N/mm^3.
     """
 
-    radius: float
-    centre: tuple[float, float, float]
     travel: tuple[float, float, float]
+    shape: str = "sphere"
+    radius: float | None = None
+    centre: tuple[float, float, float] | None = None
+    point: tuple[float, float, float] | None = None
+    normal: tuple[float, float, float] | None = None
     penalty: float = 100.0
 
     def __post_init__(self):
-        check_positive("indenter.radius", self.radius, "mm")
+        if self.shape not in INDENTER_SHAPES:
+            raise InputError(
+                f"indenter.shape={self.shape!r} is not one of {', '.join(INDENTER_SHAPES)}"
+            )
+        needed = INDENTER_SHAPES[self.shape]
+        for shape, keys in INDENTER_SHAPES.items():
+            for key in keys:
+                given = getattr(self, key) is not None
+                if key in needed and not given:
+                    raise InputError(f"indenter.{key}: a {self.shape} needs it")
+                if shape != self.shape and key not in needed and given:
+                    raise InputError(f"indenter.{key}: only for a {shape}, not a {self.shape}")
         check_positive("indenter.penalty", self.penalty, "N/mm^3")
-        _vector("indenter.centre", self.centre)
+        for key in ("centre", "point", "normal"):
+            if getattr(self, key) is not None:
+                _vector(f"indenter.{key}", getattr(self, key))
+        if self.radius is not None:
+            check_positive("indenter.radius", self.radius, "mm")
+        if self.normal is not None and not np.any(self.normal):
+            raise InputError("indenter.normal=(0, 0, 0) has no direction")
         _vector("indenter.travel", self.travel)
         if not np.any(self.travel):
             raise InputError("indenter.travel=(0, 0, 0): the indenter must move")
@@ -59,7 +89,7 @@ class SpaceSpec:
     Attributes:
         pressure: follower pressure at t = 1 (N/mm^2 = MPa) towards the normal's side (+z
             for a flat part, outwards for a tube); 0: none.
-        indenter: a sphere, or None.
+        indenter: a sphere or a plane, or None.
         stabilization: normal stabilization c (N/mm^3), 0: none (`membrane3d_solve`).
         course: for a gmsh surface in space, "around" or "along" the axis; None for flat
             parts and built-in shapes (a tube's course runs around its axis).

@@ -82,15 +82,16 @@ class FabricJob:
 def _space(data: dict | None) -> SpaceSpec | None:
     if data is None:
         return None
-    sphere = data["indenter"]
-    if sphere is not None:
-        sphere = IndenterSpec(
-            **{**sphere, "centre": tuple(sphere["centre"]), "travel": tuple(sphere["travel"])}
+    indenter = data["indenter"]
+    if indenter is not None:
+        vectors = ("centre", "point", "normal", "travel")
+        indenter = IndenterSpec(
+            **{k: tuple(v) if k in vectors and v is not None else v for k, v in indenter.items()}
         )
     return SpaceSpec(
         **{
             **data,
-            "indenter": sphere,
+            "indenter": indenter,
             "axis": tuple(data["axis"]),
             "axis_point": tuple(data["axis_point"]),
         }

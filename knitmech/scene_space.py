@@ -9,10 +9,11 @@
     [pressure]                  # follower pressure, needs [space]
     value = 0.02                # N/mm^2 at the end of the load path
 
-    [indenter]                  # a rigid sphere, needs [space]
+    [indenter]                  # a rigid indenter, needs [space]
+    shape = "sphere"            # or "plane" (with point and normal instead of radius, centre)
     radius = 12.7               # mm
     centre = [0.0, 0.0, -12.7]  # mm, at the start (outside the fabric)
-    travel = [0.0, 0.0, 30.0]   # mm, the centre's displacement at the end
+    travel = [0.0, 0.0, 30.0]   # mm, the indenter's displacement at the end
     penalty = 100.0             # N/mm^3
 
 Problems go to the caller's list, one per key; no DOLFINx here. docs/scenes.md.
@@ -21,7 +22,7 @@ Problems go to the caller's list, one per key; no DOLFINx here. docs/scenes.md.
 import math
 
 from fabric_dolfinx.part_spec import MeshSpec
-from fabric_dolfinx.space_spec import COURSE_KINDS, IndenterSpec, SpaceSpec
+from fabric_dolfinx.space_spec import COURSE_KINDS, INDENTER_SHAPES, IndenterSpec, SpaceSpec
 from rve_rod.errors import InputError
 
 __all__ = [
@@ -106,25 +107,35 @@ def read_space(data: dict, mesh: MeshSpec | None, problems: list[str]) -> SpaceS
         _unknown("pressure", pressure, ("value",), problems)
         values["pressure"] = _number("pressure.value", pressure.get("value"), problems)
     if indenter is not None:
-        valid = ("radius", "centre", "travel", "penalty")
+        shape = indenter.get("shape", "sphere")
+        placing = INDENTER_SHAPES.get(shape, ()) if isinstance(shape, str) else ()
+        valid = ("shape", *placing, "travel", "penalty")
         _unknown("indenter", indenter, valid, problems)
-        sphere = {key: indenter.get(key) for key in valid if key in indenter}
-        for key in ("centre", "travel"):
-            sphere[key] = _triple(f"indenter.{key}", indenter.get(key), problems)
-        for key in ("radius", "penalty"):
-            if key in indenter:
-                sphere[key] = _number(f"indenter.{key}", indenter[key], problems)
-        if len(problems) == count:
-            try:
-                values["indenter"] = IndenterSpec(**sphere)
-            except (InputError, TypeError) as error:
-                problems.append(f"indenter: {error}")
+        values["indenter"] = _indenter(indenter, problems, count)
     if len(problems) > count:
         return None
     try:
         return SpaceSpec(**values)
     except InputError as error:
         problems.append(f"space: {error}")
+        return None
+
+
+def _indenter(table: dict, problems: list[str], count: int) -> IndenterSpec | None:
+    """The IndenterSpec of an [indenter] table, or None with its problems added."""
+    spec = {key: value for key, value in table.items() if key == "shape"}
+    for key in ("centre", "point", "normal", "travel"):
+        if key in table or key == "travel":
+            spec[key] = _triple(f"indenter.{key}", table.get(key), problems)
+    for key in ("radius", "penalty"):
+        if key in table:
+            spec[key] = _number(f"indenter.{key}", table[key], problems)
+    if len(problems) > count:
+        return None
+    try:
+        return IndenterSpec(**spec)
+    except InputError as error:
+        problems.append(f"indenter: {error}")
         return None
 
 
@@ -137,8 +148,10 @@ def space_toml(space: SpaceSpec) -> str:
     if space.pressure:
         lines += ["", "[pressure]", f"value = {space.pressure!r}"]
     if space.indenter is not None:
-        sphere = space.indenter
-        lines += ["", "[indenter]", f"radius = {sphere.radius!r}"]
-        lines += [f"centre = {list(sphere.centre)!r}", f"travel = {list(sphere.travel)!r}"]
-        lines.append(f"penalty = {sphere.penalty!r}")
+        indenter = space.indenter
+        lines += ["", "[indenter]", f'shape = "{indenter.shape}"']
+        for key in (*INDENTER_SHAPES[indenter.shape], "travel"):
+            value = getattr(indenter, key)
+            lines.append(f"{key} = {value if key == 'radius' else list(value)!r}")
+        lines.append(f"penalty = {indenter.penalty!r}")
     return "\n".join(lines) + "\n"

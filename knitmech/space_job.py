@@ -10,6 +10,7 @@ component; `traction` is the dead load (tx, ty, 0); `free` imposes nothing. It w
   slack/wrinkle indicator;
 - `fabric/curves.json`: per boundary the reaction (Fx, Fy, Fz) per step; the indenter's
   force against its travel; the pressure against the largest displacement (dome height);
+  the fractions of the area that are wrinkled and slack per step;
 - `figures/fabric_indenter.png` and/or `figures/fabric_pressure.png`.
 """
 
@@ -20,11 +21,16 @@ from pathlib import Path
 import numpy as np
 from dolfinx import fem
 
-from fabric_dolfinx.membrane3d import SphereIndenter
-from fabric_dolfinx.membrane3d_solve import EdgeLoad, Membrane3DProblem, Membrane3DResult, Support
+from fabric_dolfinx.membrane3d import PlaneIndenter, SphereIndenter
+from fabric_dolfinx.membrane3d_solve import (
+    EdgeLoad,
+    Membrane3DProblem,
+    Membrane3DResult,
+    Support,
+    space_solver_options,
+)
 from fabric_dolfinx.regions import assign_regions, cell_field
 from fabric_dolfinx.shapes import make_mesh
-from fabric_dolfinx.solve import SolverOptions
 from fabric_dolfinx.surfaces3d import axis_fields
 from knitmech.fabric_job_spec import FabricJob
 from rve_rod.errors import ConvergenceError, InputError
@@ -72,20 +78,23 @@ def run_space(job: FabricJob, region, folder: Path, comm) -> dict:
         scalars = fem.FunctionSpace(tagged.mesh, ("DG", 0))
         frame["angle"] = cell_field(scalars, cells, [region.angle], "angle", scale=np.pi / 180)
     supports, loads = space_conditions(part.boundaries)
-    sphere = None
+    indenter = None
     if space.indenter is not None:
         spec = space.indenter
-        sphere = SphereIndenter(spec.radius, spec.centre, spec.travel, spec.penalty)
+        if spec.shape == "plane":
+            indenter = PlaneIndenter(spec.point, spec.normal, spec.travel, spec.penalty)
+        else:
+            indenter = SphereIndenter(spec.radius, spec.centre, spec.travel, spec.penalty)
     problem = Membrane3DProblem(
         tagged,
         region.material,
         supports,
         pressure=space.pressure,
         edge_loads=loads,
-        indenter=sphere,
+        indenter=indenter,
         stabilization=space.stabilization,
         element_degree=job.element_degree,
-        options=SolverOptions(steps=job.steps),
+        options=space_solver_options(job.steps),
         **frame,
     )
     message = ""
@@ -113,6 +122,8 @@ def _summary(result: Membrane3DResult, job: FabricJob, message: str, cells: int)
         "load_factor": t,
         "reactions": result.reactions,
         "peak_displacement": result.peak_displacement,
+        "wrinkled_area": result.wrinkled_area,
+        "slack_area": result.slack_area,
         "dome_amplitude": result.dome_amplitude,
         "stabilization_force": result.stabilization_force,
     }

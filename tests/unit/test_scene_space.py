@@ -1,6 +1,7 @@
 """Scenes with the membrane in space: reading, the TOML round trip, and bad input with one
 clear message each and exit status 2 (a pressure or indenter on a plane-stress scene, a tube
-without [space], a gmsh surface without a course field, an indenter inside the fabric)."""
+without [space], a gmsh surface without a course field, a sphere or a plane starting inside
+the fabric, the keys of the other indenter shape)."""
 
 import json
 import tomllib
@@ -25,6 +26,7 @@ BASE = {
     "boundary": [{"name": "rim", "kind": "clamp"}],
 }
 SPHERE = {"radius": 5.0, "centre": [0.0, 0.0, -5.0], "travel": [0.0, 0.0, 3.0], "penalty": 10.0}
+PLANE = {"shape": "plane", "point": [0, 0, 2.0], "normal": [0, 0, -1], "travel": [0, 0, -2.0]}
 
 
 def problems_of(data) -> list[str]:
@@ -42,6 +44,38 @@ def test_a_scene_in_space_reads_and_round_trips():
     resolved = scene.resolved(fidelity_level("fast"))
     assert scene_from_dict(tomllib.loads(resolved.to_toml())) == resolved
     assert scene_from_dict(BASE).part.space is None
+    scene = scene_from_dict({**BASE, "space": {}, "pressure": {"value": 0.01}, "indenter": PLANE})
+    plane = scene.part.space.indenter
+    assert (plane.shape, plane.point, plane.normal, plane.radius) == (
+        "plane",
+        (0.0, 0.0, 2.0),
+        (0.0, 0.0, -1.0),
+        None,
+    )
+    resolved = scene.resolved(fidelity_level("fast"))
+    assert scene_from_dict(tomllib.loads(resolved.to_toml())) == resolved
+
+
+def test_an_indenter_takes_the_keys_of_its_shape():
+    def indenter(table):
+        return problems_of({**BASE, "space": {}, "indenter": table})
+
+    assert indenter({**PLANE, "radius": 5.0}) == [
+        "indenter.radius: unknown key (valid: shape, point, normal, travel, penalty)"
+    ]
+    assert indenter({**SPHERE, "shape": "cone"}) == [
+        "indenter.radius: unknown key (valid: shape, travel, penalty)",
+        "indenter.centre: unknown key (valid: shape, travel, penalty)",
+    ]
+    assert indenter({"shape": "cone", "travel": [0, 0, 1]}) == [
+        "indenter: indenter.shape='cone' is not one of sphere, plane"
+    ]
+    assert indenter({key: v for key, v in PLANE.items() if key != "normal"}) == [
+        "indenter: indenter.normal: a plane needs it"
+    ]
+    assert indenter({**PLANE, "normal": [0, 0, 0]}) == [
+        "indenter: indenter.normal=(0, 0, 0) has no direction"
+    ]
 
 
 def test_loads_in_space_on_a_plane_stress_scene_are_refused():
@@ -115,11 +149,29 @@ def test_the_command_line_exits_2_on_an_indenter_inside_the_fabric(tmp_path, cap
     assert "radius=12.7 mm starts inside the fabric (gap -0.3711 mm)" in error
 
 
-def test_the_fabric_job_in_space_survives_its_json_round_trip():
+@pytest.mark.slow
+def test_the_command_line_exits_2_on_a_plane_behind_the_fabric(tmp_path, capsys):
+    scene = tmp_path / "plane.toml"
+    text = (EXAMPLES / "ball_burst.toml").read_text()
+    text = text.replace("radius = 12.7\ncentre = [0.0, 0.0, -12.7]\n", "")
+    text = text.replace("[indenter]\n", '[indenter]\nshape = "plane"\n')
+    text = text.replace("penalty = 10.0", "point = [0, 0, 0.5]\nnormal = [0, 0, 1]\npenalty = 10.0")
+    text = text.replace('"../knitmech/data/', f'"{EXAMPLES.parent}/knitmech/data/')
+    scene.write_text(text)
+    command = ["run", str(scene), "-o", str(tmp_path / "out"), "--fidelity", "fast"]
+    command += ["--cache-dir", str(tmp_path / "cache")]
+    assert main(command) == 2
+    error = capsys.readouterr().err
+    assert "indenter plane point=(0.0, 0.0, 0.5) mm, normal=(0.0, 0.0, 1.0) starts inside" in error
+    assert "(gap -0.5 mm)" in error
+
+
+@pytest.mark.parametrize("indenter", [SPHERE, PLANE])
+def test_the_fabric_job_in_space_survives_its_json_round_trip(indenter):
     """The mpirun path sends the job as JSON: the part's space comes back equal."""
     from knitmech.fabric_job_spec import FabricJob, RegionMaterial  # noqa: PLC0415
 
-    scene = scene_from_dict({**BASE, "space": {"stabilization": 1e-4}, "indenter": SPHERE})
+    scene = scene_from_dict({**BASE, "space": {"stabilization": 1e-4}, "indenter": indenter})
     part = scene.resolved(fidelity_level("fast")).part
     job = FabricJob(part, (RegionMaterial(svk={"course_stiffness": 2.0}),), steps=4)
     assert FabricJob.from_json(json.loads(json.dumps(job.to_json()))) == job

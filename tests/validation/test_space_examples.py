@@ -2,9 +2,13 @@
 
 * ball burst (ASTM D3787 geometry, the shipped cotton surface, the fast level's mesh with a
   node at the centre): the fabric lies on the ball, so its apex rises with the ball's travel
-  (12 mm, to the ball's sag over the central element); the force on the ball equals the ring
-  clamp's vertical reaction in every step solved without the stabilization (all but the
-  first); it grows with the travel.
+  (12 mm, to the ball's sag over the central element); every step is solved without the
+  stabilization in the end, and the force on the ball equals the ring clamp's vertical
+  reaction in every step; it grows with the travel. Its size at 12 mm lies between the
+  forces of isotropic SVK discs (nu = 0) with the smallest and the largest secant modulus
+  of the knit (S11/E11, S22/E22 over biaxial strains 0.08-0.25, the range the SVK disc
+  reaches), both from the axisymmetric solution of tests/axisymmetric_membrane.py (an SVK
+  force scales with E h).
 * a diaphragm burst pushed beyond what the coarse mesh can follow: the solver gives up, the
   converged steps are kept in the results and the command exits with status 3.
 """
@@ -15,11 +19,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from axisymmetric_membrane import indent_clamped_disc
 from pins import assert_pinned
 
 from knitmech.cli import main
 from knitmech.pipeline import run_scene
 from knitmech.scene import scene_from_dict
+from rve_rod.surface import read_surface
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -41,14 +47,14 @@ def test_ball_burst_fabric_follows_the_ball_and_balances_the_clamp(tmp_path):
     # below the ball's top by up to its sag over the central element, h^2 / (8 R)
     sag = 5.8**2 / (8 * 12.7)
     assert 12.0 - sag < space["peak_displacement"][-1] < 12.0
-    # the stabilization carries the first step off the flat state only: every later step
-    # is released (solved without it), and there the clamp alone balances the ball
+    # every step is released (solved again without the stabilization, from the stabilized
+    # state: the line search and the extrapolated start of `space_solver_options`), so the
+    # clamp alone balances the ball in every step
     stabilization = np.array(space["stabilization_force"])
-    assert stabilization[1] > 0.0
-    assert np.all(stabilization[2:] == 0.0)
+    assert np.all(stabilization == 0.0)
     clamp = np.array(space["reactions"]["rim"])[:, 2]
-    np.testing.assert_allclose(force[2:], -clamp[2:], rtol=0, atol=1e-5 * force[-1])
-    assert np.all(np.diff(force[2:]) >= 0.0)
+    np.testing.assert_allclose(force, -clamp, rtol=0, atol=1e-5 * force[-1])
+    assert np.all(np.diff(force) >= 0.0)
     assert_pinned(
         "BALL_BURST",
         {
@@ -56,9 +62,32 @@ def test_ball_burst_fabric_follows_the_ball_and_balances_the_clamp(tmp_path):
             "apex displacement at 12 mm travel (mm)": space["peak_displacement"][-1],
         },
     )
+    low, high = secant_moduli(EXAMPLES / data["surface"]["path"])
+    unit = indent_clamped_disc(
+        12.0,
+        radius=22.225,
+        stiffness=1.0,
+        poisson=0.0,
+        sphere=12.7,
+        penalty=10.0,
+        elements=400,
+        steps=12,
+    ).force  # 6.83 N per N/mm; radial strains 0.09-0.25, hoop up to 0.23
+    # measured: 0.95 N < 2.03 N < 4.23 N (secant moduli 0.139 and 0.619 N/mm)
+    assert low * unit < force[-1] < high * unit
     curves = json.loads((tmp_path / "out" / "fabric" / "curves.json").read_text())
     assert curves["indenter_resistance"] == pytest.approx(list(force))
     assert (tmp_path / "out" / "figures" / "fabric_indenter.png").is_file()
+
+
+def secant_moduli(path: Path) -> tuple[float, float]:
+    """The smallest and largest secant modulus S11/E11, S22/E22 (N/mm) of the surface at
+    `path` over biaxial strains E11, E22 in [0.08, 0.25]."""
+    grid = np.linspace(0.08, 0.25, 18)
+    e11, e22 = (a.ravel() for a in np.meshgrid(grid, grid))
+    stress = read_surface(path).stress(np.stack([e11, e22, 0.0 * e11], axis=1)).S
+    moduli = np.concatenate([stress[:, 0] / e11, stress[:, 1] / e22])
+    return float(moduli.min()), float(moduli.max())
 
 
 @pytest.mark.slow

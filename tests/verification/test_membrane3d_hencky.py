@@ -100,7 +100,7 @@ def test_central_deflection_converges_to_hencky_at_second_order(meshes):
 
 
 def test_radial_stress_follows_hencky(meshes):
-    problem, _ = meshes[2.5]
+    problem, result = meshes[2.5]
     fields = Membrane3DFields(problem)
     fields.update()
     mesh = problem.tagged.mesh
@@ -116,3 +116,4 @@ def test_radial_stress_follows_hencky(meshes):
     expected = hencky_radial_stress(radius[keep] / RADIUS)
     assert np.abs(radial - expected).max() < 0.02 * expected.max()
     assert np.all(fields.slack.x.array == 0.0)
+    assert (result.wrinkled_area[-1], result.slack_area[-1]) == (0.0, 0.0)  # taut everywhere

@@ -120,3 +120,33 @@ def test_newton_converges_quadratically_from_the_dome():
     tail = relative[1:]
     order = np.log(tail[-1] / tail[-2]) / np.log(tail[-2] / tail[-3])
     assert order > 1.8
+
+
+@pytest.mark.parametrize(
+    ("moved", "held", "wrinkled", "slack"),
+    [
+        ((1.0, 0.0, 0.0), (), 0.0, 0.0),
+        ((-1.0, 0.0, 0.0), ("top", "bottom"), 0.0, 1.0),
+        ((0.0, 1.0, 0.0), (), 1.0, 0.0),
+    ],
+    ids=["stretched", "compressed", "sheared"],
+)
+def test_the_wrinkled_and_slack_areas(moved, held, wrinkled, slack):
+    """A square clamped left and moved right in its plane (isotropic SVK): stretched, it is
+    taut everywhere; compressed with its top and bottom held in y, both principal stresses
+    are negative everywhere (slack); sheared, the principal stresses are about +-tau in
+    every cell (wrinkled). The unloaded state is slack everywhere."""
+    tagged = make_mesh(MeshSpec("rectangle", {"width": 10.0, "height": 10.0}, element_size=2.5))
+    supports = [Support("left"), Support("right", displacement=moved)]
+    supports += [Support(name, "yz") for name in held]
+    problem = Membrane3DProblem(
+        tagged,
+        svk_material(OrthotropicSVK(1.0, 1.0, 0.3, 1.0 / 2.6)),
+        supports,
+        stabilization=1e-3,
+        options=SolverOptions(steps=1),
+    )
+    result = problem.run()
+    assert (result.wrinkled_area[0], result.slack_area[0]) == (0.0, 1.0)
+    assert result.wrinkled_area[-1] == pytest.approx(wrinkled, abs=1e-12)
+    assert result.slack_area[-1] == pytest.approx(slack, abs=1e-12)
