@@ -38,6 +38,8 @@ photo measurement, FFT and least squares).
 from collections.abc import Mapping
 from typing import NamedTuple
 
+import pytest
+
 
 class Pin(NamedTuple):
     """A pinned number.
@@ -266,6 +268,23 @@ def moved_pins(table: str, measured: Mapping[str, float]) -> list[str]:
                 f"rtol {pin.rtol:g}); quoted in {pin.quoted_in}"
             )
     return lines
+
+
+def uniaxial_numbers(result, prefix: str, direction: str, states: int) -> dict[str, float]:
+    """The pinned numbers of a complete uniaxial RVE run to 20 % in `states` output states (the
+    unloaded one included): "<prefix><direction> force 10 %", "... 20 %" (gf/cm) and
+    "<prefix>nu12 20 %" (course) or "nu21" (wale)."""
+    assert result.complete
+    strain = result.series("strain")
+    force = result.series("force_gf_per_cm")
+    at10, at20 = (states - 1) // 2, states - 1
+    assert (strain[at10], strain[at20]) == pytest.approx((0.1, 0.2), abs=1e-15)
+    ratio = {"course": "nu12", "wale": "nu21"}[direction]
+    return {
+        f"{prefix}{direction} force 10 %": force[at10],
+        f"{prefix}{direction} force 20 %": force[at20],
+        f"{prefix}{ratio} 20 %": result.poisson_ratio,
+    }
 
 
 def assert_pinned(table: str, measured: Mapping[str, float]) -> None:

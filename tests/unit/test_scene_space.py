@@ -135,15 +135,23 @@ def test_the_command_line_exits_2_on_a_pressure_on_a_plane_stress_scene(tmp_path
 
 
 @pytest.mark.slow
-def test_the_command_line_exits_2_on_an_indenter_inside_the_fabric(tmp_path, capsys):
-    scene = tmp_path / "ball.toml"
+def run_edited_ball_burst(tmp_path, replacements: dict[str, str]) -> int:
+    """`knitmech run` (fast) of examples/ball_burst.toml with its text replaced; the exit status."""
     text = (EXAMPLES / "ball_burst.toml").read_text()
-    text = text.replace("centre = [0.0, 0.0, -12.7]", "centre = [0.0, 0.0, -12.0]")
-    text = text.replace('"../knitmech/data/', f'"{EXAMPLES.parent}/knitmech/data/')
+    for old, new in {
+        **replacements,
+        '"../knitmech/data/': f'"{EXAMPLES.parent}/knitmech/data/',
+    }.items():
+        text = text.replace(old, new)
+    scene = tmp_path / "ball.toml"
     scene.write_text(text)
     command = ["run", str(scene), "-o", str(tmp_path / "out"), "--fidelity", "fast"]
-    command += ["--cache-dir", str(tmp_path / "cache")]
-    assert main(command) == 2
+    return main([*command, "--cache-dir", str(tmp_path / "cache")])
+
+
+def test_the_command_line_exits_2_on_an_indenter_inside_the_fabric(tmp_path, capsys):
+    moved = {"centre = [0.0, 0.0, -12.7]": "centre = [0.0, 0.0, -12.0]"}
+    assert run_edited_ball_burst(tmp_path, moved) == 2
     error = capsys.readouterr().err
     # the nearest node of the coarse disc is 2.2 mm off the centre
     assert "radius=12.7 mm starts inside the fabric (gap -0.3711 mm)" in error
@@ -151,16 +159,12 @@ def test_the_command_line_exits_2_on_an_indenter_inside_the_fabric(tmp_path, cap
 
 @pytest.mark.slow
 def test_the_command_line_exits_2_on_a_plane_behind_the_fabric(tmp_path, capsys):
-    scene = tmp_path / "plane.toml"
-    text = (EXAMPLES / "ball_burst.toml").read_text()
-    text = text.replace("radius = 12.7\ncentre = [0.0, 0.0, -12.7]\n", "")
-    text = text.replace("[indenter]\n", '[indenter]\nshape = "plane"\n')
-    text = text.replace("penalty = 10.0", "point = [0, 0, 0.5]\nnormal = [0, 0, 1]\npenalty = 10.0")
-    text = text.replace('"../knitmech/data/', f'"{EXAMPLES.parent}/knitmech/data/')
-    scene.write_text(text)
-    command = ["run", str(scene), "-o", str(tmp_path / "out"), "--fidelity", "fast"]
-    command += ["--cache-dir", str(tmp_path / "cache")]
-    assert main(command) == 2
+    plane = {
+        "radius = 12.7\ncentre = [0.0, 0.0, -12.7]\n": "",
+        "[indenter]\n": '[indenter]\nshape = "plane"\n',
+        "penalty = 10.0": "point = [0, 0, 0.5]\nnormal = [0, 0, 1]\npenalty = 10.0",
+    }
+    assert run_edited_ball_burst(tmp_path, plane) == 2
     error = capsys.readouterr().err
     assert "indenter plane point=(0.0, 0.0, 0.5) mm, normal=(0.0, 0.0, 1.0) starts inside" in error
     assert "(gap -0.5 mm)" in error
