@@ -146,13 +146,13 @@ def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnM
 
 FREE_FIBRE_MIN_CONTROL_POINTS = 36
 """Control points per quarter loop below which runs with the free-fibre bending rigidity stall
-(at 20 the cotton 5.5 runs stop at 4 and 12 %: docs/validation.md, robustness)."""
+(at 20 the cotton 5.5 wale-wise run stops at 4 %: docs/validation.md, robustness)."""
 
 
 def check_bending(fabric: Fabric, bending: str, control_points: int | None = None) -> None:
-    """Raise InputError unless `bending` (one of BENDING_MODELS) can model `fabric`'s yarn:
-    "free-fibres" needs the yarn's fibre data; warn when `control_points` is below
-    FREE_FIBRE_MIN_CONTROL_POINTS with it."""
+    """Raise InputError unless `bending` (one of BENDING_MODELS; `YarnSettings` checks the
+    name) can model `fabric`'s yarn: "free-fibres" needs the yarn's fibre data. Warn when
+    `control_points` is below FREE_FIBRE_MIN_CONTROL_POINTS with it."""
     if (
         bending == "free-fibres"
         and control_points is not None
@@ -165,8 +165,6 @@ def check_bending(fabric: Fabric, bending: str, control_points: int | None = Non
             control_points,
             FREE_FIBRE_MIN_CONTROL_POINTS,
         )
-    if bending not in BENDING_MODELS:
-        raise InputError(f"bending={bending!r} is unknown; valid: {', '.join(BENDING_MODELS)}")
     if bending == "free-fibres" and fabric.yarn.fibres is None:
         raise InputError(
             f"bending='free-fibres' needs the yarn's fibres (linear densities, specific "
