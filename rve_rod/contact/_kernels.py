@@ -147,12 +147,14 @@ class Minima(NamedTuple):
 def project_on_groups(spans, groups, targets, tolerance, out):
     """Closest points of targets on groups of spans: every local minimum of distance.
 
-    The squared distance f(tau) = |C(tau) - x|^2 / 2 has slope g = C'.(C - x). A span owns a
-    minimum when g <= 0 at its start and g > 0 at its end (>= 0 for the last span of an
-    open yarn), the end slope being taken at the start of the next span of the same patch so
-    that a minimum exactly on a knot belongs to one span only. Inside the bracket, Newton
-    steps on g with bisection whenever a step would leave the bracket (safeguarded Newton:
-    it always converges, quadratically near the root).
+    The squared distance f(tau) = |C(tau) - x|^2 / 2 has slope g = C'.(C - x), a polynomial
+    of degree 2p - 1 on each span. The span's [0, 1] is split into pieces on each of which g
+    has at most one root (`_slope_pieces`); a piece owns a minimum when g <= 0 at its start
+    and g > 0 at its end (>= 0 at the end of the last span of an open yarn). The span's end
+    slope is taken at the start of the next span of the same patch so that a minimum exactly
+    on a knot belongs to one span only. Inside the piece, Newton steps on g with bisection
+    whenever a step would leave the bracket (safeguarded Newton: it always converges,
+    quadratically near the root).
 
     Args:
         spans: `SpanGroups`.
@@ -165,6 +167,9 @@ def project_on_groups(spans, groups, targets, tolerance, out):
     """
     coefficients, group_spans = spans.coefficients, spans.group_spans
     local = np.empty((3, 3))
+    n_slope = 2 * coefficients.shape[1] - 2  # coefficients of g, degree 2p - 1
+    pieces = np.empty((3, _MAX_PIECES))
+    stack = np.empty((_MAX_PIECES, 2 + n_slope))
     capacity = out.values.shape[1]
     count = 0
     for c in range(groups.size):
@@ -177,11 +182,19 @@ def project_on_groups(spans, groups, targets, tolerance, out):
                 slope_high = _start_slope(coefficients, following, target)
             else:
                 slope_high = _end_slope(coefficients, s, target)
-            owned = slope_low <= 0.0 and (
-                slope_high > 0.0 or (spans.closed_end[s] and slope_high >= 0.0)
-            )
-            if owned:
-                t = _safeguarded_newton(coefficients, s, target, (slope_low, slope_high), tolerance)
+            n_pieces = _slope_pieces(coefficients, s, target, slope_low, (stack, pieces))
+            for q in range(n_pieces):
+                low, high = pieces[0, q], pieces[1, q]
+                start_slope = pieces[2, q]
+                end_slope = pieces[2, q + 1] if q + 1 < n_pieces else slope_high
+                owned = start_slope <= 0.0 and (
+                    end_slope > 0.0 or (spans.closed_end[s] and high == 1.0 and end_slope >= 0.0)
+                )
+                if not owned:
+                    continue
+                t = _safeguarded_newton(
+                    coefficients, s, target, (low, high, start_slope, end_slope), tolerance
+                )
                 if count < capacity:
                     _span_geometry(coefficients, s, t, local)
                     out.index[0, count] = c
@@ -195,15 +208,140 @@ def project_on_groups(spans, groups, targets, tolerance, out):
     return count
 
 
+_MAX_PIECES = 64
+"""Bound on the pieces of one span (and on the subdivision stack): a split keeps at most
+1 - _SPLIT of a piece, so the depth is at most log(_MIN_PIECE) / log(1 - _SPLIT) = 24, each
+level pushing one piece."""
+
+_SPLIT = 0.4375
+"""Where a piece is split (fraction of its width)."""
+
+_MIN_PIECE = 1e-6
+"""Pieces narrower than this (in tau) are not split further: two minima that close have a
+prominence of order (width)^3 of the distance scale, i.e. none."""
+
+
 @njit(cache=True)
-def _safeguarded_newton(coefficients, span, target, bracket, tolerance):
-    """Root of the slope in [0, 1] given its signs (slope_low, slope_high) at the ends."""
+def _slope_bernstein(coefficients, span, target, out):
+    """Bernstein coefficients on [0, 1] of the span's slope g = C'.(C - x) into out (2p,)."""
+    p = coefficients.shape[1] - 1
+    n = out.size - 1
+    power = np.zeros(n + 1)
+    for c in range(3):
+        for i in range(p + 1):
+            offset = coefficients[c, i, span] - (target[c] if i == 0 else 0.0)
+            for j in range(1, p + 1):
+                power[i + j - 1] += offset * j * coefficients[c, j, span]
+    for k in range(n + 1):
+        value = 0.0
+        ratio = 1.0  # binom(k, i) / binom(n, i)
+        for i in range(k):
+            value += ratio * power[i]
+            ratio *= (k - i) / (n - i)
+        value += ratio * power[k]
+        out[k] = value
+
+
+@njit(cache=True)
+def _slope_at(coefficients, span, target, tau):
+    """Slope C'.(C - x) of the squared distance at tau, as `_safeguarded_newton` has it."""
+    local = np.empty((3, 3))
+    _span_geometry(coefficients, span, tau, local)
+    return (
+        local[1, 0] * (local[0, 0] - target[0])
+        + local[1, 1] * (local[0, 1] - target[1])
+        + local[1, 2] * (local[0, 2] - target[2])
+    )
+
+
+@njit(cache=True)
+def _sign_changes(values):
+    """Sign changes of a sequence, zeros skipped."""
+    changes = 0
+    last = 0.0
+    for value in values:
+        if value != 0.0:
+            if last != 0.0 and (value > 0.0) != (last > 0.0):
+                changes += 1
+            last = value
+    return changes
+
+
+@njit(cache=True)
+def _slope_pieces(coefficients, span, target, slope_low, buffers):
+    """Split a span's [0, 1] into pieces on which the slope has at most one root.
+
+    Descartes' rule for the Bernstein form: g has at most as many roots in a piece as its
+    Bernstein coefficients there have sign changes, so a piece with at most one change is
+    kept and a piece with more is split (de Casteljau at `_SPLIT` of its width) until it has
+    at most one or is narrower than `_MIN_PIECE`. The common span (one change or none) is one
+    piece at no extra cost beyond its coefficients. The split is off-centre so that a
+    stationary point which a symmetric configuration puts at a span's middle does not fall on
+    a piece end (where its sign would decide for both neighbours).
+
+    slope_low is the slope at the span's start as the caller has it (its knot convention);
+    buffers = (stack, pieces): the subdivision stack (_MAX_PIECES, 2p + 2) and the output
+    (3, _MAX_PIECES). Writes the pieces left to right into pieces: start, end and the slope
+    at the start (slope_low for the first piece, else the slope evaluated as
+    `_safeguarded_newton` evaluates it, so that both agree on the bracket), and returns their
+    count. The slope at a piece's end is the next piece's start slope, or the caller's at the
+    span's end.
+    """
+    stack, pieces = buffers
+    n = stack.shape[1] - 3
+    coefficient = stack[0, 2:]
+    _slope_bernstein(coefficients, span, target, coefficient)
+    if _sign_changes(coefficient) <= 1:
+        pieces[0, 0], pieces[1, 0], pieces[2, 0] = 0.0, 1.0, slope_low
+        return 1
+    stack[0, 0], stack[0, 1] = 0.0, 1.0
+    depth = 1
+    count = 0
+    work = np.empty(n + 1)
+    left = np.empty(n + 1)
+    right = np.empty(n + 1)
+    while depth > 0:
+        depth -= 1
+        low, high = stack[depth, 0], stack[depth, 1]
+        coefficient = stack[depth, 2:]
+        if (
+            _sign_changes(coefficient) <= 1
+            or high - low < _MIN_PIECE
+            or depth + 2 > stack.shape[0]
+            or count + 2 > pieces.shape[1]
+        ):
+            pieces[0, count], pieces[1, count] = low, high
+            start = slope_low if low == 0.0 else _slope_at(coefficients, span, target, low)
+            pieces[2, count] = start
+            count += 1
+            continue
+        # de Casteljau at _SPLIT: the left and right parts' coefficients.
+        work[:] = coefficient
+        for level in range(n + 1):
+            left[level] = work[0]
+            right[n - level] = work[n - level]
+            for i in range(n - level):
+                work[i] = (1.0 - _SPLIT) * work[i] + _SPLIT * work[i + 1]
+        middle = low + _SPLIT * (high - low)
+        # Push the right part first so that the left one is taken next (pieces in order).
+        stack[depth, 0], stack[depth, 1] = middle, high
+        stack[depth, 2:] = right
+        stack[depth + 1, 0], stack[depth + 1, 1] = low, middle
+        stack[depth + 1, 2:] = left
+        depth += 2
+    return count
+
+
+@njit(cache=True)
+def _safeguarded_newton(coefficients, span, target, piece, tolerance):
+    """Root of the slope in a piece = (low, high, slope_low, slope_high) of [0, 1] given the
+    slopes at its ends (slope_low <= 0 < slope_high)."""
     local = np.empty((3, 3))
     max_iterations = 2 * int(np.log2(1.0 / tolerance)) + 10
-    slope_low, slope_high = bracket
-    low = 0.0
-    high = 1.0
-    t = 0.0 if slope_low == slope_high else slope_low / (slope_low - slope_high)
+    low, high, slope_low, slope_high = piece
+    t = low
+    if slope_low != slope_high:
+        t = low + (high - low) * slope_low / (slope_low - slope_high)
     for _ in range(max_iterations):
         _span_geometry(coefficients, span, t, local)
         d0 = local[0, 0] - target[0]

@@ -1,12 +1,13 @@
 """Narrow phase: closest points of collocation points on candidate groups of knot spans.
 
 Each (point, span group) candidate is searched span by span by
-`_kernels.project_on_groups`: a span reports the local minimum of the distance that it owns
-(the slope of the squared distance changes sign from <= 0 at its start to > 0 at its end),
-found by Newton's method safeguarded by bisection, so the projection stays in the span and
-cannot fail to converge. A minimum on a knot is owned by exactly one of the two spans, so no
-contact is counted twice. Two minima inside one span (a span longer than the distance scale)
-would be missed; spans of the knit loop are ~0.02 mm, yarn radii ~0.1-0.2 mm.
+`_kernels.project_on_groups`: a span reports every local minimum of the distance that it owns.
+The slope of the squared distance is a polynomial on the span; where its Bernstein
+coefficients change sign more than once, the span is split into pieces with at most one
+root each, and a piece owns a minimum when the slope changes sign from <= 0 at its start to
+> 0 at its end. Each is found by Newton's method safeguarded by bisection, so the projection
+stays in its piece and cannot fail to converge. A minimum on a knot is owned by exactly one
+of the two spans, so no contact is counted twice.
 """
 
 from typing import NamedTuple

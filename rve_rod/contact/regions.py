@@ -9,18 +9,22 @@ lie within `window` of their neighbour's form a region and share one contact: mi
 the weight
 
     w_i = p_i^2 / sum_j p_j^2   (sum over the region),
-    p_i = min_m h(d_m) - h(d_i),   h(d) = min(d, 2r),
 
-with m the (one or two) separating maxima of the distance next to i. p_i is the prominence of
-the minimum measured in penetration: a newborn minimum coincides with its maximum (p = 0) and
-enters with weight 0, two equal minima share equally, a minimum that does not penetrate has
-p = 0, and the weights of a region sum to one. A region of one minimum has weight 1 (the
-contact as before). If no minimum of a region penetrates, its weights are 1/n (its loads are 0).
+p_i its prominence measured in penetration, with h(d) = min(d, 2r) (`prominences`): the climb
+from i to the nearest deeper minimum of the region (over the highest maximum between them),
+or to 2r if there is none, made continuous where two minima are equally deep and where a
+minimum vanishes. A newborn minimum coincides with its maximum (p = 0) and enters with weight
+0; two equal minima share equally; a minimum that does not penetrate has p = 0; the weights of
+a region sum to one. A region of one minimum has weight 1 (the contact as before). If no
+minimum of a region penetrates, its weights are 1/n (its loads are 0). The prominence taken
+against the lower neighbouring maximum alone (the definition before) jumps when a neighbouring
+minimum vanishes with the maximum between them; on the free-fibre cell in shear that stopped
+the run at 10 % (docs/contact.md).
 
 Derivatives. Distances at stationary points (minima and maxima) change with the positions at
 fixed parameter (envelope theorem): dd_q = n_q.(dx_s - dx_q), n_q = (x_s - x_q) / d_q, x_q the
 stationary point on the master (with its image translation F L_q). So dw_i = sum_q c_iq dd_q,
-where c_iq = dw_i/dd_q (`WeightTerms`).
+where c_iq = dw_i/dd_q (`WeightTerms`), over the minima and maxima of i's region.
 """
 
 from typing import NamedTuple
@@ -282,51 +286,39 @@ def region_weights(
         maxima.normal[:, needed] = found.normal
     capped_minimum = np.minimum(minima.distance, touch)
     capped_maximum = np.minimum(maxima.distance, touch)
-    # The lower of the (up to two) neighbouring maxima of each minimum, in sorted order.
-    ceiling = np.full(k, np.inf)
-    which = np.full(k, -1)
-    for pair, member in ((np.arange(pairs.size), pairs), (np.arange(pairs.size), pairs + 1)):
-        lower = capped_maximum[pair] < ceiling[member]
-        ceiling[member[lower]] = capped_maximum[pair[lower]]
-        which[member[lower]] = pair[lower]
     region = np.concatenate([[0], np.cumsum(~linked)])  # region of each sorted position
     size = np.bincount(region)
-    shared = size[region] > 1
-    prominence = np.where(shared, np.maximum(ceiling - capped_minimum[order], 0.0), 0.0)
-    power = prominence**2
-    total = np.bincount(region, weights=power)[region]
-    positive = shared & (total > 0.0)
-    sorted_weight = np.where(shared, 1.0 / size[region], 1.0)
-    sorted_weight[positive] = power[positive] / total[positive]
-    weight[order] = sorted_weight
-
-    # dw_i/dp_j = (delta_ij - w_i) 2 p_j / total for i, j of one region; dp_j = dh(d_m) - dh(d_j).
-    members = np.flatnonzero(positive)
-    counts = size[region[members]]
-    first_of_region = np.searchsorted(region, region[members])
-    i = np.repeat(members, counts)
-    j = np.repeat(first_of_region, counts) + (
-        np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-    )
-    derivative = ((i == j) - sorted_weight[i]) * 2.0 * prominence[j] / total[i]
-    minimum_index = order[j]
-    maximum_index = which[j]
-    penetrating_minimum = minima.distance[minimum_index] < touch
-    penetrating_maximum = maxima.distance[maximum_index] < touch
-    terms = [
-        (
-            order[i][penetrating_minimum],
-            minima,
-            minimum_index[penetrating_minimum],
-            -derivative[penetrating_minimum],
-        ),
-        (
-            order[i][penetrating_maximum],
-            maxima,
-            maximum_index[penetrating_maximum],
-            derivative[penetrating_maximum],
-        ),
-    ]
+    starts = np.concatenate([[0], np.cumsum(size)[:-1]])
+    gap_pair = np.full(max(k - 1, 0), -1)
+    gap_pair[pairs] = np.arange(pairs.size)
+    weight_terms = []  # (weighted minimum, stationary points, their indices, dw/dh)
+    shared = 0
+    for first, count in zip(starts[size > 1], size[size > 1], strict=True):
+        shared += int(count)
+        members = order[first : first + count]
+        gaps = gap_pair[first : first + count - 1]
+        prominence, derivative = prominences(capped_minimum[members], capped_maximum[gaps], touch)
+        power = prominence**2
+        total = power.sum()
+        if total <= 0.0:
+            weight[members] = 1.0 / count
+            continue
+        weight[members] = power / total
+        # dw_i/dp_j = (delta_ij - w_i) 2 p_j / total; chained to the capped distances.
+        dw_dp = (np.eye(count) - (power / total)[:, None]) * (2.0 * prominence / total)[None, :]
+        dw_dh = dw_dp @ derivative  # (count, 2 count - 1): minima, then maxima
+        for i in range(count):
+            weight_terms.append((members[i], minima, members, dw_dh[i, :count]))
+            weight_terms.append((members[i], maxima, gaps, dw_dh[i, count:]))
+    # h(d) = min(d, 2r) changes only where the stationary point penetrates.
+    terms = []
+    for contact, points, index, coefficient in weight_terms:
+        moving = (points.distance[index] < touch) & (coefficient != 0.0)
+        terms.append(
+            (np.full(np.count_nonzero(moving), contact), points, index[moving], coefficient[moving])
+        )
+    if not terms:
+        return RegionWeights(weight, WeightTerms.empty(), shared)
     return RegionWeights(
         weight=weight,
         terms=WeightTerms(
@@ -337,5 +329,76 @@ def region_weights(
             normal=np.concatenate([points.normal[:, index] for _, points, index, _ in terms], 1),
             coefficient=np.concatenate([value for _, _, _, value in terms]),
         ),
-        shared=int(np.count_nonzero(shared)),
+        shared=shared,
     )
+
+
+def prominences(minima: np.ndarray, maxima: np.ndarray, touch: float):
+    """Prominences of the minima of one region and their derivatives.
+
+    Args:
+        minima: (n,) capped distances h_i = min(d_i, 2r) of the minima in arc order (mm).
+        maxima: (n-1,) capped distances of the maxima between neighbouring minima (mm).
+        touch: 2r (mm).
+
+    Returns p (n,) and dp/dh (n, 2n-1): columns the minima, then the maxima.
+
+    p_i = min(2r - h_i, min over j != i of t_ij), t_ij = max(B_ij - h_i, (2r - h_i) s_ij): B_ij
+    the highest maximum between i and j (the barrier to climb from i to j), s_ij =
+    clip((h_j - h_i) / q_j, 0, 1) how much shallower j is than i measured in q_j = A_j - h_j,
+    j's own depth below its lower neighbouring maximum A_j. A deeper (or equal) j caps i's
+    prominence at the barrier to it; a j shallower by q_j or more does not cap it; in between
+    the cap rises linearly. This is the topographic prominence (the climb to the nearest
+    deeper minimum, or to 2r) made continuous: at a tie (s = 0 on both sides) and when a
+    minimum vanishes with its neighbouring maximum (q_j -> 0 makes s_ij -> 1 for every
+    deeper i, so j stops capping others before it disappears, while its own p_j <= q_j -> 0).
+    """
+    n = minima.size
+    p = touch - minima
+    derivative = np.zeros((n, 2 * n - 1))
+    derivative[np.arange(n), np.arange(n)] = -1.0
+    lower = np.full(n, np.inf)
+    lower_gap = np.full(n, -1)
+    for gap, value in enumerate(maxima):
+        for j in (gap, gap + 1):
+            if value < lower[j]:
+                lower[j], lower_gap[j] = value, gap
+    depth = np.maximum(lower - minima, 0.0)  # q_j
+    for i in range(n):
+        for j in range(n):
+            if j == i:
+                continue
+            between = range(min(i, j), max(i, j))
+            barrier_gap = max(between, key=lambda g: maxima[g])
+            climb = maxima[barrier_gap] - minima[i]
+            rise = minima[j] - minima[i]
+            q = depth[j]
+            if rise <= 0.0:
+                s = 0.0
+            elif q <= rise:
+                s = 1.0
+            else:
+                s = rise / q
+            room = touch - minima[i]
+            if climb >= room * s:
+                value = climb
+                row = np.zeros(2 * n - 1)
+                row[i] = -1.0
+                row[n + barrier_gap] = 1.0
+            else:
+                value = room * s
+                row = np.zeros(2 * n - 1)
+                if s == 1.0:
+                    row[i] = -1.0
+                else:
+                    # value = (2r - h_i)(h_j - h_i) / (A_j - h_j)
+                    row[i] = -s - room / q
+                    row[j] = room * (lower[j] - minima[i]) / q**2
+                    row[n + lower_gap[j]] = -room * rise / q**2
+            if value < p[i]:
+                p[i] = value
+                derivative[i] = row
+    negative = p < 0.0
+    p[negative] = 0.0
+    derivative[negative] = 0.0
+    return p, derivative

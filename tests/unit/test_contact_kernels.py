@@ -109,6 +109,67 @@ def test_projection_finds_every_local_minimum_once(degree, spans_per_group):
     )
 
 
+def one_span_projection(control_points, target):
+    """Minima (sorted parameters) of the distance from target (3,) to one Bezier span."""
+    degree = len(control_points) - 1
+    knots = open_knot_vector(degree, degree + 1)
+    points = np.asarray(control_points, dtype=float)
+    layout = build_layout([Patch(degree, knots)], [YarnChain((0,))], points)
+    found = project(
+        layout.coefficients(points),
+        np.array([[0], [1]]),
+        layout.span_next,
+        layout.span_closed_end,
+        groups=np.array([0]),
+        targets=np.asarray(target, dtype=float)[:, None],
+    )
+    curve = BSplineCurve(degree, knots, points)
+    return np.sort(found.tau), reference_minima(curve, np.asarray(target, dtype=float))
+
+
+@pytest.mark.parametrize(
+    ("shoulder", "middle", "expected_count"),
+    [
+        # Two bulges toward the target: slope -, +, -, + (minimum, maximum, minimum) inside the
+        # span with the usual bracket at its ends; one bracket search finds one of the two.
+        (0.3, -0.2, 2),
+        (0.12, -0.2, 2),
+        (-0.1, -0.2, 2),
+        # One bulge in the middle: one minimum.
+        (0.0, 0.2, 1),
+    ],
+)
+def test_projection_finds_two_minima_inside_one_span(shoulder, middle, expected_count):
+    control_points = [
+        [0.0, 0.0, 0.0],
+        [0.25, shoulder, 0.0],
+        [0.5, middle, 0.0],
+        [0.75, shoulder, 0.0],
+        [1.0, 0.0, 0.0],
+    ]
+    found, expected = one_span_projection(control_points, [0.5, 1.0, 0.0])
+    assert expected.size == expected_count
+    np.testing.assert_allclose(found, expected, atol=1e-12)
+
+
+def test_projection_finds_a_pair_born_inside_a_span_whose_end_slopes_agree():
+    # The slope is positive at both ends of the span and dips below zero in between: a
+    # maximum and a minimum, which a bracket of the end slopes alone cannot see.
+    control_points = [
+        [0.0, 0.3, 0.0],
+        [-0.2, 1.0, 0.0],
+        [-0.2, -0.4, 0.0],
+        [0.6, -0.1, 0.0],
+        [-0.5, -0.4, 0.0],
+    ]
+    curve = BSplineCurve(4, open_knot_vector(4, 5), np.array(control_points, dtype=float))
+    ends = np.array([0.0, 1.0])
+    assert np.all(np.einsum("md,md->m", curve(ends, 1), curve(ends)) > 0)  # target: origin
+    found, expected = one_span_projection(control_points, [0.0, 0.0, 0.0])
+    assert expected.size == 1
+    np.testing.assert_allclose(found, expected, atol=1e-12)
+
+
 def test_minimum_on_a_knot_is_owned_by_exactly_one_span():
     degree, n = 3, 8
     knots = open_knot_vector(degree, n)
