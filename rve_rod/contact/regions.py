@@ -12,7 +12,7 @@ the weight
 
 p_i its prominence measured in penetration, with h(d) = min(d, 2r) (`prominences`): the climb
 from i to the nearest deeper minimum of the region (over the highest maximum between them),
-or to 2r if there is none, made continuous where two minima are equally deep and where a
+or to 2r if there is none, made smooth where two minima are equally deep and continuous where a
 minimum vanishes. A newborn minimum coincides with its maximum (p = 0) and enters with weight
 0; two equal minima share equally; a minimum that does not penetrate has p = 0; the weights of
 a region sum to one. A region of one minimum has weight 1 (the contact as before). If no
@@ -343,15 +343,17 @@ def prominences(minima: np.ndarray, maxima: np.ndarray, touch: float):
 
     Returns p (n,) and dp/dh (n, 2n-1): columns the minima, then the maxima.
 
-    p_i = min(2r - h_i, min over j != i of t_ij), t_ij = max(B_ij - h_i, (2r - h_i) s_ij): B_ij
-    the highest maximum between i and j (the barrier to climb from i to j), s_ij =
-    clip((h_j - h_i) / q_j, 0, 1) how much shallower j is than i measured in q_j = A_j - h_j,
-    j's own depth below its lower neighbouring maximum A_j. A deeper (or equal) j caps i's
-    prominence at the barrier to it; a j shallower by q_j or more does not cap it; in between
-    the cap rises linearly. This is the topographic prominence (the climb to the nearest
-    deeper minimum, or to 2r) made continuous: at a tie (s = 0 on both sides) and when a
-    minimum vanishes with its neighbouring maximum (q_j -> 0 makes s_ij -> 1 for every
-    deeper i, so j stops capping others before it disappears, while its own p_j <= q_j -> 0).
+    p_i = min(2r - h_i, min over j != i of t_ij),  t_ij = B_ij - h_i + (2r - B_ij) S(x_ij):
+    B_ij the highest maximum between i and j (the barrier to climb from i to j); x_ij =
+    (h_j - h_i) / q_j how much shallower j is than i, in units of q_j = A_j - h_j, j's own
+    depth below its lower neighbouring maximum A_j; S the smooth step (0 for x <= 0,
+    3x^2 - 2x^3 on [0, 1], 1 beyond). A deeper or equal j caps i's prominence at the barrier
+    to it (the topographic prominence: the climb to the nearest deeper minimum, or to 2r); a
+    j shallower by q_j or more does not cap it; in between the cap rises smoothly. So the
+    prominence is continuous, with a continuous slope, where two minima are equally deep
+    (S = S' = 0) and when a minimum vanishes with its neighbouring maximum (q_j -> 0 makes
+    S = 1 for every deeper i, so j stops capping others before it disappears, while its own
+    p_j <= q_j -> 0). Kinks remain where two caps of a minimum cross (three or more minima).
     """
     n = minima.size
     p = touch - minima
@@ -363,38 +365,29 @@ def prominences(minima: np.ndarray, maxima: np.ndarray, touch: float):
         for j in (gap, gap + 1):
             if value < lower[j]:
                 lower[j], lower_gap[j] = value, gap
-    depth = np.maximum(lower - minima, 0.0)  # q_j
     for i in range(n):
         for j in range(n):
             if j == i:
                 continue
-            between = range(min(i, j), max(i, j))
-            barrier_gap = max(between, key=lambda g: maxima[g])
-            climb = maxima[barrier_gap] - minima[i]
+            barrier_gap = max(range(min(i, j), max(i, j)), key=lambda g: maxima[g])
+            barrier = maxima[barrier_gap]
             rise = minima[j] - minima[i]
-            q = depth[j]
-            if rise <= 0.0:
-                s = 0.0
-            elif q <= rise:
-                s = 1.0
-            else:
-                s = rise / q
-            room = touch - minima[i]
-            if climb >= room * s:
-                value = climb
-                row = np.zeros(2 * n - 1)
-                row[i] = -1.0
-                row[n + barrier_gap] = 1.0
-            else:
-                value = room * s
-                row = np.zeros(2 * n - 1)
-                if s == 1.0:
-                    row[i] = -1.0
-                else:
-                    # value = (2r - h_i)(h_j - h_i) / (A_j - h_j)
-                    row[i] = -s - room / q
-                    row[j] = room * (lower[j] - minima[i]) / q**2
-                    row[n + lower_gap[j]] = -room * rise / q**2
+            depth = lower[j] - minima[j]  # q_j
+            row = np.zeros(2 * n - 1)
+            row[i] = -1.0
+            row[n + barrier_gap] = 1.0
+            step = 0.0
+            if rise > 0.0 and depth <= rise:
+                step = 1.0
+            elif rise > 0.0:
+                x = rise / depth
+                step = x * x * (3.0 - 2.0 * x)
+                slope = 6.0 * x * (1.0 - x) * (touch - barrier)  # d/dx of (2r - B) S
+                row[i] -= slope / depth
+                row[j] += slope * (lower[j] - minima[i]) / depth**2
+                row[n + lower_gap[j]] -= slope * rise / depth**2
+            value = barrier - minima[i] + (touch - barrier) * step
+            row[n + barrier_gap] -= step
             if value < p[i]:
                 p[i] = value
                 derivative[i] = row
