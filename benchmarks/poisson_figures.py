@@ -1,7 +1,7 @@
 """The deformed loop at 0 and 20 % course- and wale-wise, and where the lateral stress goes.
 
 Cotton 20s/2 stitch 5.5, coarse settings (20 control points, 11 states; `--control-points`,
-`--bending free-fibres` for the yarn's free-fibre bending rigidity, which needs 36 or more). Writes
+`--bending free-fibres` for the yarn's free-fibre bending rigidity). Writes
 `poisson_loop<suffix>.png` into the figures folder: for each direction the face (x/y), side
 (y/z) and end (x/z) views of the cell's yarn (blue, with its contacts: red slipping, orange
 sticking) among its neighbours (grey), the unloaded loop dashed. Prints, for the last state

@@ -19,7 +19,12 @@ Who checks what:
 
 Every value was measured on the shared 2-core machine at commit 3172971 (version 0.2.1, loop
 model 0.2) with Debian 12's numpy 1.24, scipy, numba 0.56 and DOLFINx 0.5.2, the way the test
-computes it, and copied with all its digits.
+computes it, and copied with all its digits. Version 0.2.2 (commit ff2ea8b: the contact
+search finds every distance minimum of a span, and the prominences that share a contact among
+close minima are continuous, docs/contact.md) moved some of them by more than their tolerance;
+those were measured again at 0.2.2 (RVE_FAST 2 numbers, RVE_PAPER_RESOLUTION 4,
+RVE_FREE_FIBRES 4 by 0.1-0.4 %; MAIN_JOB_FAST 8, SHIPPED_SURFACE_FIT 5, whose surfaces' biaxial
+samples moved by up to 11 %), the others held.
 
 Tolerances. Every run is deterministic; what can differ between machines is round-off (numba,
 BLAS, SuperLU/MUMPS ordering), which Newton converges away to its tolerance (1e-10 relative in
@@ -70,10 +75,10 @@ PINS_DOC = "docs/validation.md (Regression pins)"
 RVE_FAST = {
     "course force 10 %": Pin(10.862181576288432, SOLVED, BENCH + ", meso c10"),
     "course force 20 %": Pin(27.113220373431677, SOLVED, BENCH + ", meso c20"),
-    "wale force 10 %": Pin(42.99070713450672, SOLVED, BENCH + ", meso w10"),
+    "wale force 10 %": Pin(43.03538003771735, SOLVED, BENCH + ", meso w10"),
     "wale force 20 %": Pin(108.73717960197273, SOLVED, BENCH + ", meso w20"),
     "nu12 20 %": Pin(0.09909343473478827, SOLVED, BENCH + ", meso nu12"),
-    "nu21 20 %": Pin(0.20934985693383146, SOLVED, BENCH + ", meso nu21"),
+    "nu21 20 %": Pin(0.20909130730988934, SOLVED, BENCH + ", meso nu21"),
 }
 
 # The RVE at the paper's resolution (68 control points, 0-20 % in 21 states) for the six cotton
@@ -83,15 +88,15 @@ RVE_PAPER_RESOLUTION = {
     "cotton 4.5 course force 20 %": Pin(68.17469977604054, SOLVED, VALIDATION),
     "cotton 4.5 wale force 20 %": Pin(130.9974377814131, SOLVED, VALIDATION),
     "cotton 4.5 nu12 20 %": Pin(0.09401054625900018, SOLVED, VALIDATION),
-    "cotton 4.5 nu21 20 %": Pin(0.17488825047837442, SOLVED, VALIDATION),
+    "cotton 4.5 nu21 20 %": Pin(0.17412306056407867, SOLVED, VALIDATION),
     "cotton 5.0 course force 20 %": Pin(37.36143727026774, SOLVED, VALIDATION),
     "cotton 5.0 wale force 20 %": Pin(109.16051975998826, SOLVED, VALIDATION),
     "cotton 5.0 nu12 20 %": Pin(0.09830791147303841, SOLVED, VALIDATION),
-    "cotton 5.0 nu21 20 %": Pin(0.17239727680371297, SOLVED, VALIDATION),
+    "cotton 5.0 nu21 20 %": Pin(0.17208002617406126, SOLVED, VALIDATION),
     "cotton 5.5 course force 20 %": Pin(27.158290085304188, SOLVED, VALIDATION),
     "cotton 5.5 wale force 20 %": Pin(108.65191283042228, SOLVED, VALIDATION),
     "cotton 5.5 nu12 20 %": Pin(0.10112092286397145, SOLVED, VALIDATION),
-    "cotton 5.5 nu21 20 %": Pin(0.20520635016316013, SOLVED, VALIDATION),
+    "cotton 5.5 nu21 20 %": Pin(0.20563273121805614, SOLVED, VALIDATION),
     "cotton 6.0 course force 20 %": Pin(17.15195763238365, SOLVED, VALIDATION),
     "cotton 6.0 wale force 20 %": Pin(84.14840678805952, SOLVED, VALIDATION),
     "cotton 6.0 nu12 20 %": Pin(0.07730913513192272, SOLVED, VALIDATION),
@@ -106,7 +111,7 @@ RVE_PAPER_RESOLUTION = {
     "cotton 7.0 nu21 20 %": Pin(0.22942691734023857, SOLVED, VALIDATION),
     "vassiliadis strip-biaxial-course force 10 %": Pin(25.732795873953993, SOLVED, VALIDATION),
     "vassiliadis strip-biaxial-course force 20 %": Pin(68.77789686667425, SOLVED, VALIDATION),
-    "vassiliadis strip-biaxial-wale force 10 %": Pin(18.89259159200303, SOLVED, VALIDATION),
+    "vassiliadis strip-biaxial-wale force 10 %": Pin(18.922032097054203, SOLVED, VALIDATION),
     "vassiliadis strip-biaxial-wale force 20 %": Pin(79.76493215231264, SOLVED, VALIDATION),
 }
 
@@ -121,13 +126,13 @@ RVE_FREE_FIBRES = {
     "cotton 4.5 course force 10 %": Pin(11.864988192759233, SOLVED, FREE),
     "cotton 4.5 course force 20 %": Pin(25.904375541316348, SOLVED, FREE),
     "cotton 4.5 nu12 20 %": Pin(0.35639713581884835, SOLVED, FREE),
-    "cotton 4.5 wale force 10 %": Pin(23.77912508684148, SOLVED, FREE),
-    "cotton 4.5 wale force 20 %": Pin(60.21954263226411, SOLVED, FREE),
-    "cotton 4.5 nu21 20 %": Pin(0.4801910696422579, SOLVED, FREE),
+    "cotton 4.5 wale force 10 %": Pin(23.713539967387938, SOLVED, FREE),
+    "cotton 4.5 wale force 20 %": Pin(60.30086869603797, SOLVED, FREE),
+    "cotton 4.5 nu21 20 %": Pin(0.48167003609312586, SOLVED, FREE),
     "cotton 5.5 course force 10 %": Pin(4.400490313524636, SOLVED, FREE),
     "cotton 5.5 course force 20 %": Pin(9.903529346833178, SOLVED, FREE),
     "cotton 5.5 nu12 20 %": Pin(0.3127069438020441, SOLVED, FREE),
-    "cotton 5.5 wale force 10 %": Pin(19.29850128189384, SOLVED, FREE),
+    "cotton 5.5 wale force 10 %": Pin(19.269350275190103, SOLVED, FREE),
     "cotton 5.5 wale force 20 %": Pin(50.36121889035427, SOLVED, FREE),
     "cotton 5.5 nu21 20 %": Pin(0.5952894800090669, SOLVED, FREE),
     "cotton 7.0 course force 10 %": Pin(1.4948215706697443, SOLVED, FREE),
@@ -152,12 +157,12 @@ RVE_FRICTION_CYCLE = {
 # largest and RMS residual per stress group, N/mm. Pins the fit (`rve_rod.homogenize.fit`) and,
 # once the shipped surface is remade, the RVE runs behind it.
 SHIPPED_SURFACE_FIT = {
-    "S11 max abs": Pin(0.0003165646376705564, SOLVED, PINS_DOC),
-    "S11 rms abs": Pin(5.044332655045357e-05, SOLVED, PINS_DOC),
+    "S11 max abs": Pin(0.0005624332552943969, SOLVED, PINS_DOC),
+    "S11 rms abs": Pin(6.967882890539237e-05, SOLVED, PINS_DOC),
     "S22 max abs": Pin(0.0006201228538162593, SOLVED, PINS_DOC),
-    "S22 rms abs": Pin(0.00016439267452024022, SOLVED, PINS_DOC),
-    "S12 max abs": Pin(5.000749514104592e-05, SOLVED, PINS_DOC),
-    "S12 rms abs": Pin(1.6245659674153167e-05, SOLVED, PINS_DOC),
+    "S22 rms abs": Pin(0.00016507288888483474, SOLVED, PINS_DOC),
+    "S12 max abs": Pin(4.944936505928946e-05, SOLVED, PINS_DOC),
+    "S12 rms abs": Pin(1.6077205535707166e-05, SOLVED, PINS_DOC),
 }
 
 # The main job: `knitmech run --fidelity fast` on the default scene (cotton 20s/2, stitch 5.5;
@@ -166,15 +171,15 @@ SHIPPED_SURFACE_FIT = {
 # Patch (macro) forces in gf/cm, the patch's Poisson ratios across its middle at 20 %, and the
 # fast surface's fit residuals (N/mm).
 MAIN_JOB_FAST = {
-    "patch course force 10 %": Pin(11.03560133630304, SOLVED, BENCH + ", macro c10"),
-    "patch course force 20 %": Pin(27.772999956947864, SOLVED, BENCH + ", macro c20"),
+    "patch course force 10 %": Pin(11.053976429042676, SOLVED, BENCH + ", macro c10"),
+    "patch course force 20 %": Pin(27.911656716123765, SOLVED, BENCH + ", macro c20"),
     "patch wale force 10 %": Pin(43.432959429053994, SOLVED, BENCH + ", macro w10"),
-    "patch wale force 20 %": Pin(110.08219550107181, SOLVED, BENCH + ", macro w20"),
-    "patch nu12 20 %": Pin(0.10492521793916744, SOLVED, BENCH + ", macro nu12"),
-    "patch nu21 20 %": Pin(0.1650298126333497, SOLVED, BENCH + ", macro nu21"),
-    "surface S11 max abs": Pin(0.00020995508000185015, SOLVED, PINS_DOC),
-    "surface S22 max abs": Pin(0.0007959817585015081, SOLVED, PINS_DOC),
-    "surface S12 max abs": Pin(8.743231942264038e-05, SOLVED, PINS_DOC),
+    "patch wale force 20 %": Pin(109.77365908973505, SOLVED, BENCH + ", macro w20"),
+    "patch nu12 20 %": Pin(0.09631675853610398, SOLVED, BENCH + ", macro nu12"),
+    "patch nu21 20 %": Pin(0.16674045305182586, SOLVED, BENCH + ", macro nu21"),
+    "surface S11 max abs": Pin(0.0004291681906169239, SOLVED, PINS_DOC),
+    "surface S22 max abs": Pin(0.0007976518298565661, SOLVED, PINS_DOC),
+    "surface S12 max abs": Pin(8.715854057353423e-05, SOLVED, PINS_DOC),
 }
 
 # Loop length (mm) of the model loop of each reference fabric (`loop_geometry(knit, r0)` of the

@@ -84,7 +84,7 @@ def run_simulate(args: argparse.Namespace) -> int:
         check_output_folder("--vtk", args.vtk)
     check_count("--control-points", args.control_points, limits.CONTROL_POINTS)
     fabric = fabric_from_args(args)
-    check_bending(fabric, args.bending, args.control_points)
+    check_bending(fabric, args.bending)
     strain = args.max_strain
     case = load_case(args.case, strain, args.steps, args.angle)
     settings = RveSettings(

@@ -56,7 +56,7 @@ def fabric_settings(fabric: Fabric, control_points: int, bending: str = "section
     (`rve_rod.rve.yarn.BENDING_MODELS`); a yarn without friction (mu = 0) runs without the
     friction path (no slip history), everything else at its default. Raises InputError when
     the bending model cannot model the fabric's yarn (`check_bending`)."""
-    check_bending(fabric, bending, control_points)
+    check_bending(fabric, bending)
     return RveSettings(
         cell=CellSettings(control_points=control_points),
         yarn=YarnSettings(friction=fabric.yarn.friction_coefficient > 0.0, bending=bending),

@@ -15,7 +15,6 @@ From yarn (r0, E0, nu, mu) and knit (w) as design.md states it (Weeger et al.):
   penetration g = 2r - d (`rve_rod.contact.CompressibleYarnLaw`), Coulomb friction mu.
 """
 
-import logging
 from dataclasses import dataclass, replace
 from typing import NamedTuple
 
@@ -29,14 +28,12 @@ from rve_rod.rod.section import free_fibre_rigidity
 
 __all__ = [
     "BENDING_MODELS",
-    "FREE_FIBRE_MIN_CONTROL_POINTS",
     "YarnModel",
     "YarnSettings",
     "check_bending",
     "yarn_model",
 ]
 
-logger = logging.getLogger(__name__)
 
 BENDING_MODELS = ("section", "free-fibres")
 """How the rods' rotational stiffness C is found: "section", E_C I and G_C J of the yarn's
@@ -144,27 +141,9 @@ def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnM
     )
 
 
-FREE_FIBRE_MIN_CONTROL_POINTS = 36
-"""Control points per quarter loop below which runs with the free-fibre bending rigidity stall
-(at 20 the cotton 5.5 wale-wise run stops at 4 %: docs/validation.md, robustness)."""
-
-
-def check_bending(fabric: Fabric, bending: str, control_points: int | None = None) -> None:
+def check_bending(fabric: Fabric, bending: str) -> None:
     """Raise InputError unless `bending` (one of BENDING_MODELS; `YarnSettings` checks the
-    name) can model `fabric`'s yarn: "free-fibres" needs the yarn's fibre data. Warn when
-    `control_points` is below FREE_FIBRE_MIN_CONTROL_POINTS with it."""
-    if (
-        bending == "free-fibres"
-        and control_points is not None
-        and control_points < FREE_FIBRE_MIN_CONTROL_POINTS
-    ):
-        logger.warning(
-            "bending='free-fibres' with %d control points per quarter loop: its runs stall "
-            'below %d (docs/validation.md, "The yarn\'s bending rigidity"); use the balanced '
-            "level or more control points",
-            control_points,
-            FREE_FIBRE_MIN_CONTROL_POINTS,
-        )
+    name) can model `fabric`'s yarn: "free-fibres" needs the yarn's fibre data."""
     if bending == "free-fibres" and fabric.yarn.fibres is None:
         raise InputError(
             f"bending='free-fibres' needs the yarn's fibres (linear densities, specific "

@@ -1,6 +1,5 @@
 """The paper's yarn model: adjusted radius, stiffness scalings and contact laws from the presets."""
 
-import logging
 import math
 
 import pytest
@@ -8,9 +7,7 @@ import pytest
 from rve_rod.errors import InputError
 from rve_rod.presets import Fabric, Knit, Yarn, load_preset, stitch_values
 from rve_rod.rve.yarn import (
-    FREE_FIBRE_MIN_CONTROL_POINTS,
     YarnSettings,
-    check_bending,
     yarn_model,
 )
 
@@ -83,14 +80,3 @@ def test_free_fibre_bending_needs_fibre_data_and_no_second_moment():
         YarnSettings(bending="free-fibres", second_moment="paper")
     with pytest.raises(InputError, match="bending='rope' is unknown"):
         YarnSettings(bending="rope")
-
-
-def test_free_fibre_bending_warns_below_the_control_points_it_converges_with(caplog):
-    fabric = load_preset("cotton-20s2", 5.5)
-    with caplog.at_level(logging.WARNING, logger="rve_rod.rve.yarn"):
-        check_bending(fabric, "free-fibres", FREE_FIBRE_MIN_CONTROL_POINTS)
-        check_bending(fabric, "section", 20)
-    assert not caplog.records
-    with caplog.at_level(logging.WARNING, logger="rve_rod.rve.yarn"):
-        check_bending(fabric, "free-fibres", 20)
-    assert "stall below 36" in caplog.text

@@ -88,9 +88,10 @@ def test_newton_converges_quadratically_with_shared_minima(friction, state):
         assert stats.sticking == stats.active_contacts
     if state == "slip":  # the two contacts with the smallest normal load stick
         assert stats.sliding >= 0.8 * stats.active_contacts
-    # e_{k+1} / e_k^2 measured 2.5-5 over the last iterates; a linearly convergent method
-    # would grow like 1 / e_k, to ~1e4 here.
+    # e_{k+1} / e_k^2 measured 2.9-8.8 over the last iterates (the residual falls from 4e-7 or
+    # 3e-8 to round-off in one step); a linearly convergent method would grow like 1 / e_k, to
+    # ~1e4 here.
     tail = norms[norms > 1e-12][-3:]
-    assert tail[-1] < 1e-7
+    assert tail[-1] < 1e-6
     assert np.all(tail[1:] / tail[:-1] ** 2 < 10.0)
     assert len(norms) <= 8
