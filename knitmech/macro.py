@@ -3,7 +3,8 @@
 `run_patch` runs one direction (`fabric_dolfinx.tension`), writes the XDMF file of every step
 (`paraview/patch_<direction>.xdmf` with its `.h5`) and the stress map of the paper's
 Figure 8 (`figures/stress_<direction>.png`), and measures the patch's lateral contraction
-across its middle (the effective Poisson ratio of the clamped patch). It is collective under
+across its middle (the effective Poisson ratio of the clamped patch) and the strains of a gauge
+at its centre, as a video extensometer does in a tensile test (`PatchProbe`). It is collective under
 MPI; the pipeline runs it in-process on one rank, or as
 
     mpirun -n N python -m knitmech.macro PATCH.json SURFACE.h5 FOLDER SUMMARY.json
@@ -33,8 +34,10 @@ from rve_rod.surface import homogeneous_response, read_surface
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
 __all__ = [
+    "GAUGE_FRACTION",
     "STRESS_COMPONENT",
-    "MidlineProbe",
+    "DisplacementProbe",
+    "PatchProbe",
     "main",
     "run_patch",
 ]
@@ -45,41 +48,69 @@ STRESS_COMPONENT = {"course": (0, 0), "wale": (1, 1)}
 """The Cauchy stress component drawn for each direction (along the load)."""
 
 
-class MidlineProbe:
-    """Lateral strain across the middle of the patch: the change of distance between the
-    midpoints of the two free edges over the patch size (-), evaluated on every rank that holds
-    them (collective)."""
+GAUGE_FRACTION = 0.2
+"""Length of the centre gauge as a fraction of the patch size: the marks a video extensometer
+follows at the sample's centre (the tests' Poisson ratios), 10 mm on the 50 mm patch."""
 
-    def __init__(self, u: fem.Function, size: float, direction: str):
-        load_axis = DIRECTIONS[direction][2]
-        self.axis = 1 - load_axis
-        self.size = size
-        points = np.zeros((2, 3))
-        points[:, load_axis] = size / 2
-        points[1, self.axis] = size
+
+class DisplacementProbe:
+    """The displacement at fixed points of the patch, on every rank (collective): each rank
+    evaluates the points its cells hold and all ranks share the values."""
+
+    def __init__(self, u: fem.Function, points: np.ndarray):
         mesh = u.function_space.mesh
         tree = geometry.BoundingBoxTree(mesh, mesh.topology.dim)
         candidates = geometry.compute_collisions(tree, points)
         colliding = geometry.compute_colliding_cells(mesh, candidates, points)
-        self.found = [len(colliding.links(i)) > 0 for i in range(2)]
-        self.cells = [colliding.links(i)[0] if self.found[i] else -1 for i in range(2)]
+        self.cells = [
+            colliding.links(i)[0] if len(colliding.links(i)) else -1 for i in range(len(points))
+        ]
         self.points = points
         self.u = u
 
-    def __call__(self) -> float:
-        """The lateral strain at the current displacement (the same on every rank)."""
-        comm = self.u.function_space.mesh.comm
-        values = [
-            float(self.u.eval(self.points[i], [self.cells[i]])[self.axis])
-            if self.found[i]
-            else None
-            for i in range(2)
+    def __call__(self) -> np.ndarray:
+        """The displacement (mm) at the points, shape (points, 2)."""
+        local = [
+            self.u.eval(point, [cell])[:2].tolist() if cell >= 0 else None
+            for point, cell in zip(self.points, self.cells, strict=True)
         ]
-        gathered = comm.allgather(values)
-        first, second = (
-            next(rank[i] for rank in gathered if rank[i] is not None) for i in range(2)
+        gathered = self.u.function_space.mesh.comm.allgather(local)
+        return np.array(
+            [next(rank[i] for rank in gathered if rank[i] is not None) for i in range(len(local))]
         )
-        return (second - first) / self.size
+
+
+class PatchProbe:
+    """The patch's strains as a tensile test measures them, at the current displacement:
+
+    - `lateral`: the change of distance between the midpoints of the two free edges over the
+      patch size (the width change across the middle, clamps included);
+    - `gauge`: (axial, lateral) engineering strains of the centre gauge, marks GAUGE_FRACTION x
+      size apart along and across the load through the patch's centre.
+    """
+
+    def __init__(self, u: fem.Function, size: float, direction: str):
+        self.load_axis = DIRECTIONS[direction][2]
+        self.lateral_axis = 1 - self.load_axis
+        self.size = size
+        self.gauge_length = GAUGE_FRACTION * size
+        centre = np.full(3, size / 2)
+        centre[2] = 0.0
+        points = np.tile(centre, (6, 1))
+        points[0, self.lateral_axis] = 0.0
+        points[1, self.lateral_axis] = size
+        marks = [(axis, sign) for axis in (self.load_axis, self.lateral_axis) for sign in (-1, 1)]
+        for row, (axis, sign) in enumerate(marks, start=2):
+            points[row, axis] += sign * self.gauge_length / 2
+        self.probe = DisplacementProbe(u, points)
+
+    def __call__(self) -> tuple[float, float, float]:
+        """(lateral strain across the middle, gauge axial strain, gauge lateral strain) (-)."""
+        u = self.probe()
+        across = (u[1, self.lateral_axis] - u[0, self.lateral_axis]) / self.size
+        axial = (u[3, self.load_axis] - u[2, self.load_axis]) / self.gauge_length
+        lateral = (u[5, self.lateral_axis] - u[4, self.lateral_axis]) / self.gauge_length
+        return across, axial, lateral
 
 
 def run_patch(job: PatchJob, surface_path: Path, folder: Path, comm=MPI.COMM_WORLD) -> PatchSummary:
@@ -87,10 +118,10 @@ def run_patch(job: PatchJob, surface_path: Path, folder: Path, comm=MPI.COMM_WOR
 
     Returns the PatchSummary: strain, force (gf/cm, N/mm), the force of the material alone in
     homogeneous uniaxial tension (gf/cm, what the RVE's uniaxial case gives when the surface
-    reproduces it), lateral strain and Poisson ratio per step, Newton iterations, cutbacks,
-    whether strains left the surface domain, DOFs, ranks, times, `complete` (False when the
-    solver gave up; the converged steps are kept) and `force_positive` (False flags a spurious
-    equilibrium, e.g. on a surface that softens).
+    reproduces it), lateral strain and Poisson ratio per step, the centre gauge's strains,
+    Newton iterations, cutbacks, whether strains left the surface domain, DOFs, ranks, times,
+    `complete` (False when the solver gave up; the converged steps are kept) and
+    `force_positive` (False flags a spurious equilibrium, e.g. on a surface that softens).
     """
     test = job.test
     folder = Path(folder)
@@ -101,12 +132,12 @@ def run_patch(job: PatchJob, surface_path: Path, folder: Path, comm=MPI.COMM_WOR
     surface = read_surface(surface_path)
     material = surface_material(surface, name=Path(surface_path).name)
     setup = TensionSetup(material, test, SolverOptions(steps=job.steps), comm)
-    probe = MidlineProbe(setup.u, test.size, test.direction)
-    lateral = [0.0]
+    probe = PatchProbe(setup.u, test.size, test.direction)
+    measured = [(0.0, 0.0, 0.0)]
     field_strain = job.field_strain
 
     def on_step(strain, fields):
-        lateral.append(probe())
+        measured.append(probe())
         if abs(strain - field_strain) < 1e-9:
             plot_cell_field(
                 fields,
@@ -132,7 +163,7 @@ def run_patch(job: PatchJob, surface_path: Path, folder: Path, comm=MPI.COMM_WOR
             strain[1:][np.argmax(pulled <= 0.0)],
         )
     alone = [0.0] + [_material_alone(surface, value, test.direction) for value in strain[1:]]
-    lateral_strain = np.array(lateral[: strain.size])
+    lateral_strain, gauge_strain, gauge_lateral = np.array(measured[: strain.size]).T
     with np.errstate(divide="ignore", invalid="ignore"):
         poisson = np.where(strain > 0, -lateral_strain / strain, np.nan)
     return PatchSummary(
@@ -145,6 +176,8 @@ def run_patch(job: PatchJob, surface_path: Path, folder: Path, comm=MPI.COMM_WOR
         force_n_per_mm=result.force_n_per_mm,
         material_uniaxial_gf_per_cm=alone,
         lateral_strain=lateral_strain,
+        gauge_strain=gauge_strain,
+        gauge_lateral_strain=gauge_lateral,
         poisson_ratio=poisson,
         newton_iterations=result.newton_iterations,
         cutbacks=result.cutbacks,

@@ -196,6 +196,9 @@ class PatchSummary(JsonRecord):
             tension (gf/cm; None where no lateral strain frees the lateral stress).
         lateral_strain: (k+1,) change of the width across the middle over the size (-).
         poisson_ratio: (k+1,) -lateral_strain / strain (None at strain 0).
+        gauge_strain: (k+1,) engineering strain along the load of the centre gauge
+            (`knitmech.macro.GAUGE_FRACTION` x size long, through the patch's centre) (-).
+        gauge_lateral_strain: (k+1,) the same across the load (-).
         newton_iterations: (k,) per converged step.
         cutbacks: failed attempts retried with a smaller step.
         outside_domain: whether strains left the surface's sampled domain.
@@ -214,6 +217,8 @@ class PatchSummary(JsonRecord):
     material_uniaxial_gf_per_cm: tuple[float | None, ...]
     lateral_strain: tuple[float, ...]
     poisson_ratio: tuple[float | None, ...]
+    gauge_strain: tuple[float, ...]
+    gauge_lateral_strain: tuple[float, ...]
     newton_iterations: tuple[int, ...]
     cutbacks: int
     outside_domain: bool

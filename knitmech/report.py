@@ -2,8 +2,12 @@
 
 Forces are compared at REPORT_STRAINS (5, 10 and 20 %): the patch's clamp force per width
 (macro) against the RVE's uniaxial force per width (meso) of the same direction, both in
-gf/cm. Values between output states are interpolated linearly; strains beyond a curve's end
-(a run that stopped early, or a smaller max_strain) are reported as None.
+gf/cm, twice: at the patch's nominal strain (clamp to clamp: the clamps, which hold the fabric's
+width at both ends, stiffen a fabric that contracts) and at the strain of the gauge at the
+patch's centre (`knitmech.macro.PatchProbe`; a tensile test's extensometer), where the fabric
+is free to narrow and the material alone is measured. Values between output states are
+interpolated linearly; strains beyond a curve's end (a run that stopped early, or a smaller
+max_strain) are reported as None.
 """
 
 from collections.abc import Mapping, Sequence
@@ -49,8 +53,9 @@ def value_at(strain: Sequence[float], values: Sequence[float | None], target: fl
 
 def compare_forces(meso: Mapping[str, MesoSummary], macro: Mapping[str, PatchSummary]) -> dict:
     """Per direction at REPORT_STRAINS (gf/cm): the RVE's uniaxial force (meso), the surface's
-    own uniaxial force (the material alone, homogeneous) and the patch's clamp force (macro),
-    and (macro - meso) / meso."""
+    own uniaxial force (the material alone, homogeneous), the patch's clamp force at that
+    nominal strain (macro) and where its centre gauge reads that strain (centre), and
+    (macro - meso) / meso, (centre - meso) / meso."""
     table = {}
     for direction in ("course", "wale"):
         rve, patch = meso.get(DIRECTION_CASES[direction]), macro.get(direction)
@@ -67,32 +72,45 @@ def compare_forces(meso: Mapping[str, MesoSummary], macro: Mapping[str, PatchSum
                 None if record is None else value_at(record.strain, getattr(record, key), target)
                 for target in REPORT_STRAINS
             ]
-        entry["relative_difference"] = [
-            None
-            if None in (force_meso, force_macro) or force_meso == 0
-            else (force_macro - force_meso) / force_meso
-            for force_meso, force_macro in zip(
-                entry["meso_gf_per_cm"], entry["macro_gf_per_cm"], strict=True
-            )
+        entry["centre_gf_per_cm"] = [
+            None if patch is None else value_at(patch.gauge_strain, patch.force_gf_per_cm, target)
+            for target in REPORT_STRAINS
         ]
+        for name, column in (
+            ("relative_difference", "macro_gf_per_cm"),
+            ("centre_relative_difference", "centre_gf_per_cm"),
+        ):
+            entry[name] = [
+                None if None in (meso_force, force) or meso_force == 0 else force / meso_force - 1
+                for meso_force, force in zip(entry["meso_gf_per_cm"], entry[column], strict=True)
+            ]
         table[direction] = entry
     return table
 
 
 def poisson_ratios(meso: Mapping[str, MesoSummary], macro: Mapping[str, PatchSummary]) -> dict:
-    """nu12 and nu21 of the RVE (uniaxial cases) and of the patch (across its middle)."""
+    """nu12 and nu21 at POISSON_STRAINS: of the RVE (uniaxial cases; meso), of the patch across
+    its middle at its nominal strain (macro), and of its centre gauge where that reads the
+    strain (centre: -lateral / axial strain of the gauge, as the tests' extensometer)."""
     ratios = {}
     for direction, name in POISSON_NAMES.items():
-        sources = {"meso": meso.get(DIRECTION_CASES[direction]), "macro": macro.get(direction)}
+        rve, patch = meso.get(DIRECTION_CASES[direction]), macro.get(direction)
+        sources = {
+            "meso": (rve, "strain", "lateral_strain"),
+            "macro": (patch, "strain", "lateral_strain"),
+            "centre": (patch, "gauge_strain", "gauge_lateral_strain"),
+        }
         entry = {"strain": list(POISSON_STRAINS)}
-        for scale, record in sources.items():
-            lateral = [
-                None if record is None else value_at(record.strain, record.lateral_strain, t)
+        for scale, (record, strain, lateral) in sources.items():
+            values = [
+                None
+                if record is None
+                else value_at(getattr(record, strain), getattr(record, lateral), t)
                 for t in POISSON_STRAINS
             ]
             entry[scale] = [
                 None if value is None else -value / t
-                for value, t in zip(lateral, POISSON_STRAINS, strict=True)
+                for value, t in zip(values, POISSON_STRAINS, strict=True)
             ]
         ratios[name] = entry
     return ratios
@@ -111,37 +129,44 @@ def _number(value, spec: str, width: int) -> str:
     return f"{'-':>{width}}" if value is None else f"{value:{width}{spec}}"
 
 
+def _percent(fraction) -> str:
+    return f"{'-':>9}" if fraction is None else f"{100 * fraction:>+8.1f}%"
+
+
 def summary_table(summary: dict) -> str:
     """The printed summary: forces meso vs macro, Poisson ratios, stages and their times."""
     lines = [f"{summary['scene']['name']} (fidelity {summary['fidelity']['name']})"]
     forces = summary["forces"]
-    if forces:
-        header = "".join(f"{d + '-wise force (gf/cm)':^36}" for d in forces)
-        columns = f"{'meso':>9}{'surface':>9}{'macro':>9}{'diff':>9}"
-        lines += ["", f"{'':8}{header}", f"{'strain':>8}" + columns * len(forces)]
+    columns = ("meso_gf_per_cm", "surface_gf_per_cm", "macro_gf_per_cm")
+    for direction, entry in forces.items():
+        lines += [
+            "",
+            f"{'strain':>8}{'meso':>9}{'surface':>9}{'macro':>9}{'diff':>9}{'centre':>9}"
+            f"{'diff':>9}   {direction}-wise force (gf/cm)",
+        ]
         for row, target in enumerate(REPORT_STRAINS):
             cells = f"{100 * target:>6.0f} %"
-            for entry in forces.values():
-                for column in ("meso_gf_per_cm", "surface_gf_per_cm", "macro_gf_per_cm"):
-                    cells += _number(entry[column][row], ".2f", 9)
-                difference = entry["relative_difference"][row]
-                cells += f"{'-':>9}" if difference is None else f"{100 * difference:>+8.1f}%"
+            cells += "".join(_number(entry[column][row], ".2f", 9) for column in columns)
+            cells += _percent(entry["relative_difference"][row])
+            cells += _number(entry["centre_gf_per_cm"][row], ".2f", 9)
+            cells += _percent(entry["centre_relative_difference"][row])
             lines.append(cells)
+    if forces:
         lines.append(
             "  meso: RVE uniaxial; surface: the fitted material alone in uniaxial tension; "
-            "macro: clamped patch; diff: macro vs meso"
+            "macro: clamped patch at its nominal strain; centre: the same where the gauge at "
+            "its centre reads the strain; diff: against meso"
         )
     ratios = summary["poisson_ratios"]
-    known = any(v is not None for e in ratios.values() for k in ("meso", "macro") for v in e[k])
+    scales = ("meso", "macro", "centre")
+    known = any(v is not None for e in ratios.values() for k in scales for v in e.get(k, ()))
     if known:
-        lines += ["", f"{'Poisson ratio':<16}{'meso':>8}{'macro':>8}"]
+        lines += ["", f"{'Poisson ratio':<16}" + "".join(f"{k:>8}" for k in scales)]
     for name, entry in ratios.items() if known else ():
         for index, target in enumerate(entry["strain"]):
             label = f"{name} at {100 * target:.0f} %"
             lines.append(
-                f"  {label:<14}"
-                + _number(entry["meso"][index], ".3f", 8)
-                + _number(entry["macro"][index], ".3f", 8)
+                f"  {label:<14}" + "".join(_number(entry[k][index], ".3f", 8) for k in scales)
             )
     lines += ["", f"{'stage':<10}{'items':>6}{'computed':>10}{'cached':>8}{'time (s)':>10}"]
     records = summary["stages"]

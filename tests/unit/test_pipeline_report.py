@@ -33,7 +33,8 @@ def curve(max_strain, steps, force, lateral):
 
 
 def patch(max_strain, steps, force, lateral):
-    """A patch record like `curve`, whose material alone gives 0.9 times its force."""
+    """A patch record like `curve`, whose material alone gives 0.9 times its force and whose
+    centre gauge strains 1.25 times the nominal strain and contracts by 0.25 of that."""
     strain = np.linspace(0.0, max_strain, steps)
     return PatchSummary(
         direction="course",
@@ -46,6 +47,8 @@ def patch(max_strain, steps, force, lateral):
         material_uniaxial_gf_per_cm=[0.9 * force(s) for s in strain],
         lateral_strain=[lateral(s) for s in strain],
         poisson_ratio=[np.nan] + [-lateral(s) / s for s in strain[1:]],
+        gauge_strain=1.25 * strain,
+        gauge_lateral_strain=-0.25 * 1.25 * strain,
         newton_iterations=[1] * (steps - 1),
         cutbacks=0,
         outside_domain=False,
@@ -76,11 +79,16 @@ def test_forces_and_poisson_ratios_of_meso_and_macro():
     assert forces["course"]["macro_gf_per_cm"] == pytest.approx([5.5, 11.0, 22.0])
     assert forces["course"]["surface_gf_per_cm"] == pytest.approx([4.95, 9.9, 19.8])
     assert forces["course"]["relative_difference"] == pytest.approx([0.1] * 3)
+    # where the gauge reads t the nominal strain is t / 1.25: force 110 t / 1.25 = 0.88 meso
+    assert forces["course"]["centre_gf_per_cm"][:2] == pytest.approx([4.4, 8.8])
+    assert forces["course"]["centre_relative_difference"][:2] == pytest.approx([-0.12] * 2)
+    assert forces["course"]["centre_gf_per_cm"][2] == pytest.approx(17.6)
     assert forces["wale"]["meso_gf_per_cm"] == pytest.approx([20.0, 40.0, 80.0])
     assert forces["wale"]["macro_gf_per_cm"] == [None] * 3
     ratios = poisson_ratios(meso, macro)
     assert ratios["nu12"]["meso"] == pytest.approx([0.1, 0.1])
     assert ratios["nu12"]["macro"] == pytest.approx([0.2, 0.2])
+    assert ratios["nu12"]["centre"] == pytest.approx([0.25, 0.25])
     assert ratios["nu21"]["meso"] == pytest.approx([0.3, 0.3])
     assert ratios["nu21"]["macro"] == [None, None]
 
@@ -101,9 +109,10 @@ def test_table_shows_every_force_and_missing_values_as_dashes():
     }
     rows = summary_table(summary).splitlines()
     ten = next(row for row in rows if row.strip().startswith("10 %")).split()
-    assert ten[2:] == ["10.00", "10.80", "12.00", "+20.0%"]
+    # centre: where the gauge reads 10 % (nominal 8 %) the patch carries 120 x 0.08
+    assert ten[2:] == ["10.00", "10.80", "12.00", "+20.0%", "9.60", "-4.0%"]
     twenty = next(row for row in rows if row.strip().startswith("20 %")).split()
-    assert twenty[2:] == ["-", "-", "-", "-"]
+    assert twenty[2:] == ["-", "-", "-", "-", "-", "-"]
     macro_row = next(row for row in rows if row.strip().startswith("macro")).split()
     assert macro_row[1:] == ["1", "1", "0", "2.0"]
 
