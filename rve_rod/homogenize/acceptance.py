@@ -11,7 +11,10 @@ knit in tension cannot do:
 - monotonicity: dS11/dE11 and dS22/dE22 are not negative on the domain beyond
   SOFTENING_TOLERANCE of their largest (`rve_rod.surface.softest_normal_tangents`);
 - coverage: the fit does not exceed the largest sample of its group by more than
-  COVERAGE_FACTOR anywhere on the domain (it would be extrapolating a wiggle, not data).
+  COVERAGE_FACTOR anywhere on the domain (it would be extrapolating a wiggle, not data),
+  except beyond the end of a ray that stopped early (`beyond_stopped_rays`): there the cell
+  has no state to sample (e.g. a knit jammed at the penetration limit in biaxial tension),
+  more rays cannot help, and the surface's parameters name those runs (`incomplete_runs`).
 
 `generate_surface` stores the problems in the surface's parameters (`checks`) and logs each
 as a warning; `rve-rod surface` and `rve-rod surface-info` print them.
@@ -25,6 +28,7 @@ __all__ = [
     "COVERAGE_FACTOR",
     "SIGN_TOLERANCE",
     "SOFTENING_TOLERANCE",
+    "beyond_stopped_rays",
     "surface_problems",
 ]
 
@@ -81,7 +85,8 @@ def surface_problems(surface: ResponseSurface) -> list[str]:
         if samples is None or samples.values.size == 0:
             continue
         sampled = float(np.abs(samples.values).max())
-        at = int(np.argmax(np.abs(stress[:, axis])))
+        reached = ~beyond_stopped_rays(strain[:, :2], samples.inputs, domain[:2])
+        at = int(np.flatnonzero(reached)[np.argmax(np.abs(stress[reached, axis]))])
         if abs(stress[at, axis]) > COVERAGE_FACTOR * sampled:
             problems.append(
                 f"coverage: {name} = {stress[at, axis]:.3g} N/mm at E = ({strain[at, 0]:.3g}, "
@@ -89,3 +94,30 @@ def surface_problems(surface: ResponseSurface) -> list[str]:
                 "sample: the fit has no data there (more rays)"
             )
     return problems
+
+
+def beyond_stopped_rays(strain: np.ndarray, sampled: np.ndarray, box: np.ndarray) -> np.ndarray:
+    """Which points `strain` (n, 2) of Green-Lagrange (E11, E22) lie beyond the end of a ray
+    that stopped early: the ray nearest in direction (engineering strain about the origin) to
+    the point ends inside the `box` ((2, 2) [min, max] of E11, E22) and the point is farther
+    out. The rays are the directions of the `sampled` states (m, 2); shape (n,) of bool."""
+
+    def polar(E):
+        e = np.sqrt(1.0 + 2.0 * np.asarray(E, dtype=float)) - 1.0
+        return np.arctan2(e[:, 1], e[:, 0]), np.hypot(e[:, 0], e[:, 1])
+
+    angles, radii = polar(sampled)
+    keep = radii > 1e-12
+    rays, index = np.unique(np.round(angles[keep], 6), return_inverse=True)
+    reach = np.zeros(rays.size)
+    np.maximum.at(reach, index, radii[keep])
+    limits = np.sqrt(1.0 + 2.0 * np.asarray(box, dtype=float)) - 1.0  # engineering box
+    direction = np.stack([np.cos(rays), np.sin(rays)], axis=1)
+    with np.errstate(divide="ignore"):
+        ends = np.where(direction > 0, limits[:, 1] / direction, limits[:, 0] / direction)
+    full = np.min(np.where(direction != 0, ends, np.inf), axis=1)
+    stopped = reach < (1.0 - 1e-6) * full
+    point_angles, point_radii = polar(strain)
+    gap = np.abs((point_angles[:, None] - rays[None, :] + np.pi) % (2 * np.pi) - np.pi)
+    nearest = np.argmin(gap, axis=1)
+    return stopped[nearest] & (point_radii > reach[nearest] * (1.0 + 1e-9))
