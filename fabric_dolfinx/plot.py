@@ -27,8 +27,9 @@ def plot_force_strain(
     references: Mapping[str, tuple[np.ndarray, np.ndarray]] | None = None,
     *,
     title: str = "",
+    xlabel: str = "nominal strain (%)",
 ) -> None:
-    """Force per width (gf/cm) against nominal strain (%) for each labelled curve.
+    """Force per width (gf/cm) against strain (%) for each labelled curve.
 
     Args:
         curves: label -> (strain (k,), force_gf_per_cm (k,)), drawn with markers.
@@ -36,6 +37,7 @@ def plot_force_strain(
         comm: only its rank 0 writes (None: the calling process writes).
         references: further curves drawn as thin dashed lines (e.g. the material alone).
         title: the figure's title (e.g. the fabric and the test), none if empty.
+        xlabel: the strain axis' label.
     """
     if comm is not None and comm.rank != 0:
         return
@@ -46,7 +48,7 @@ def plot_force_strain(
         axes.plot(100 * np.asarray(strain), force, "--", linewidth=1.0, label=label)
     if rve is not None:
         axes.plot(100 * rve.strain, rve.force_gf_per_cm, "k--", label="RVE (uniaxial)")
-    axes.set_xlabel("nominal strain (%)")
+    axes.set_xlabel(xlabel)
     axes.set_ylabel("force per width (gf/cm)")
     axes.grid(alpha=0.3)
     axes.legend(frameon=False)

@@ -194,13 +194,15 @@ def plot_comparison(
     path: Path,
     title: str = "",
 ) -> None:
-    """Force-strain of the patch (markers) and of the RVE (dashed), as the paper's Fig. 8a,
+    """Force-strain of the patch (markers: against its nominal strain, clamp to clamp, and
+    against the strain its centre gauge reads) and of the RVE (dashed), as the paper's Fig. 8a,
     titled `title` (the scene's name and level)."""
     from fabric_dolfinx.plot import plot_force_strain  # noqa: PLC0415 (matplotlib on demand)
 
-    curves = {
-        f"patch, {d}-wise": (record.strain, record.force_gf_per_cm) for d, record in macro.items()
-    }
+    curves = {}
+    for d, record in macro.items():
+        curves[f"patch, {d}-wise, clamp to clamp"] = (record.strain, record.force_gf_per_cm)
+        curves[f"patch, {d}-wise, centre gauge"] = (record.gauge_strain, record.force_gf_per_cm)
     references = {
         f"RVE uniaxial, {d}-wise": (
             meso[case].strain,
@@ -209,4 +211,4 @@ def plot_comparison(
         for d, case in DIRECTION_CASES.items()
         if case in meso
     }
-    plot_force_strain(curves, path, references=references, title=title)
+    plot_force_strain(curves, path, references=references, title=title, xlabel="strain (%)")
