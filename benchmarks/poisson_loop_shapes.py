@@ -110,8 +110,10 @@ def run(row: Row, case_name: str, control_points: int, steps: int) -> tuple[RveR
     """One uniaxial run of cotton 20s/2 stitch 5.5 on the row's loop, and its cell (which keeps
     the friction anchors of the last state)."""
     fabric = load_preset("cotton-20s2", 5.5)
-    yarn = YarnSettings(
-        friction=row.friction, second_moment="paper" if row.paper_second_moment else "solid"
+    yarn = YarnSettings(  # the section model the experiment diagnosed (issue 14)
+        friction=row.friction,
+        second_moment="paper" if row.paper_second_moment else "solid",
+        bending="section",
     )
     settings = RveSettings(cell=CellSettings(control_points=control_points), yarn=yarn)
     model = yarn_model(fabric, settings.yarn)

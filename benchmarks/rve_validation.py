@@ -3,7 +3,8 @@
 1. The six cotton 20s/2 fabrics in uniaxial tension course- and wale-wise, 0-20 % in 21 steps:
    force at 20 %, Poisson ratios, the stress left at zero strain, contacts at the cut.
 2. Vassiliadis sample 2 in strip-biaxial tension course- and wale-wise.
-3. The second moment of area: I = pi r^4/4 against the paper's pi r^4/12 (stitch 5.5).
+3. The bending rigidity (stitch 5.5): the fibres' (the default), the solid section's with
+   I = pi r^4/4 and with the paper's pi r^4/12.
 4. Extremes: the tightest and loosest cotton knit, 40 % uniaxial strain, 30 % shear, -10 %
    compression, and knits approaching the contact-exponent limit.
 
@@ -118,21 +119,22 @@ def vassiliadis(settings, figures):
         figure.savefig(Path(figures) / "rve_vassiliadis.png", dpi=90)
 
 
-def second_moment(settings):
+def bending_rigidity(settings):
     fabric = load_preset("cotton-20s2", 5.5)
-    print("\n## Second moment of area (cotton stitch 5.5)\n")
-    print("| I | course force at 20 % | wale force at 20 % | nu12 | nu21 |")
-    print("|---|---:|---:|---:|---:|")
-    for choice in ("solid", "paper"):
+    print("\n## Bending rigidity (cotton stitch 5.5)\n")
+    print("| bending | I | course force at 20 % | wale force at 20 % | nu12 | nu21 |")
+    print("|---|---|---:|---:|---:|---:|")
+    for bending, moment in (("free-fibres", "solid"), ("section", "solid"), ("section", "paper")):
         chosen = dataclasses.replace(
-            settings, yarn=dataclasses.replace(settings.yarn, second_moment=choice)
+            settings,
+            yarn=dataclasses.replace(settings.yarn, bending=bending, second_moment=moment),
         )
         course = attempt(fabric, load_case("uniaxial-course"), chosen)[0]
         wale = attempt(fabric, load_case("uniaxial-wale"), chosen)[0]
         forces = (course.steps[-1].force_gf_per_cm, wale.steps[-1].force_gf_per_cm)
         print(
-            f"| {choice} | {forces[0]:.4g} | {forces[1]:.4g}"
-            f" | {course.poisson_ratio:.3g} | {wale.poisson_ratio:.3g} |"
+            f"| {bending} | {moment if bending == 'section' else '-'} | {forces[0]:.4g} | "
+            f"{forces[1]:.4g} | {course.poisson_ratio:.3g} | {wale.poisson_ratio:.3g} |"
         )
 
 
@@ -191,7 +193,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--control-points", type=int, default=68)
     parser.add_argument("--figures", default=None, help="folder for the PNG figures")
-    parser.add_argument("--only", choices=("cotton", "vassiliadis", "second-moment", "extremes"))
+    parser.add_argument("--only", choices=("cotton", "vassiliadis", "bending", "extremes"))
     args = parser.parse_args()
     settings = RveSettings(
         cell=CellSettings(control_points=args.control_points), yarn=YarnSettings()
@@ -199,7 +201,7 @@ def main():
     parts = {
         "cotton": lambda: cotton(settings, args.figures),
         "vassiliadis": lambda: vassiliadis(settings, args.figures),
-        "second-moment": lambda: second_moment(settings),
+        "bending": lambda: bending_rigidity(settings),
         "extremes": lambda: extremes(settings),
     }
     for name, part in parts.items():

@@ -60,6 +60,7 @@ from rve_rod.homogenize.executors import ExecutorChoice
 from rve_rod.jsonable import to_jsonable
 from rve_rod.limits import available_cores
 from rve_rod.outputs import check_output_folder
+from rve_rod.rve.yarn import bending_model
 from rve_rod.surface import read_surface
 
 __all__ = [
@@ -182,6 +183,7 @@ def run_scene(
             shutil.rmtree(folder, ignore_errors=True)
         keys = ", ".join(f"fabric.{k}" for k in ("wale_width", "course_height", "yarn_radius"))
         raise SceneError(repr(plan.scene.name), [f"{keys}: {error}"]) from None
+    bending_model(plan.fabric, plan.scene.fabric.bending, report=True)  # warns of a fallback
     meso = {stage.item: MesoSummary.from_json(run(stage)) for stage in meso_stages(plan)}
     part = plan.scene.part
     knits = knit_surfaces(plan) if part is not None else None

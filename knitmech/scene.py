@@ -21,7 +21,7 @@ from knitmech.scene_space import SPACE_TABLES
 from rve_rod import limits
 from rve_rod.errors import InputError
 from rve_rod.presets import Fabric, load_preset, make_fabric
-from rve_rod.rve.yarn import BENDING_MODELS
+from rve_rod.rve.yarn import BENDING_CHOICES
 
 __all__ = [
     "DEFAULT_SURFACE",
@@ -74,8 +74,9 @@ class FabricSpec:
 
     Explicit values override the preset's; without a preset, wale_width, course_height,
     yarn_radius and youngs_modulus are required. `bending` is the RVE's model of the yarn's
-    bending and twisting rigidity (`rve_rod.rve.yarn.BENDING_MODELS`; "free-fibres" needs a
-    preset with fibre data).
+    bending and twisting rigidity (`rve_rod.rve.yarn.BENDING_CHOICES`: "auto", the default, is
+    "free-fibres" where the yarn's fibres are known and "section" where not; "free-fibres"
+    needs a preset with fibre data).
     """
 
     preset: str | None = None
@@ -86,7 +87,7 @@ class FabricSpec:
     youngs_modulus: float | None = None
     poissons_ratio: float | None = None
     friction: float | None = None
-    bending: str = "section"
+    bending: str = "auto"
 
 
 @dataclass(frozen=True)
@@ -115,7 +116,9 @@ class SurfaceSpec:
         path: an existing surface file; when given nothing is sampled.
         rays: number of biaxial rays; None takes the fidelity level's.
         max_strain: largest engineering strain along the rays, in tension (-).
-        max_compression: largest engineering strain along the rays, in compression (-).
+        max_compression: largest engineering strain along the rays, in compression (-); None
+            (the default): follow the fabric's contraction in uniaxial tension
+            (`rve_rod.homogenize.sampling.compression_box`).
         shear_max_strain: largest shear strain of the pure-shear run (-).
     """
 
@@ -123,7 +126,7 @@ class SurfaceSpec:
     path: str | None = None
     rays: int | None = None
     max_strain: float = 0.20
-    max_compression: float = 0.10
+    max_compression: float | None = None
     shear_max_strain: float = 0.30
 
 
@@ -349,9 +352,9 @@ def _check_values(
         problems.append(f"fabric.poissons_ratio: {fabric.poissons_ratio} is outside [0, 0.5)")
     if fabric.friction is not None and fabric.friction < 0:
         problems.append(f"fabric.friction: {fabric.friction} must be >= 0")
-    if fabric.bending not in BENDING_MODELS:
+    if fabric.bending not in BENDING_CHOICES:
         problems.append(
-            f"fabric.bending: {fabric.bending!r} is unknown (valid: {', '.join(BENDING_MODELS)})"
+            f"fabric.bending: {fabric.bending!r} is unknown (valid: {', '.join(BENDING_CHOICES)})"
         )
     # a preset or stitch of the wrong type is reported once, not again as unknown or missing
     reported = {
@@ -395,7 +398,7 @@ def _check_values(
     for key, value, low, high in ranges:
         if not low < value <= high:
             problems.append(f"{key}: {value} is outside the valid range ({low}, {high}]")
-    if not 0.0 <= surface.max_compression <= 0.5:
+    if surface.max_compression is not None and not 0.0 <= surface.max_compression <= 0.5:
         problems.append(
             f"surface.max_compression: {surface.max_compression} is outside the valid range "
             "[0.0, 0.5]"

@@ -40,10 +40,12 @@ from rve_rod.cache import ResultCache, default_cache_root
 from rve_rod.errors import InputError
 from rve_rod.homogenize.executors import ExecutorChoice
 from rve_rod.homogenize.generate import (
+    GenerationError,
     RunFailure,
     RunsResult,
     RunTask,
     cached_count,
+    failure_message,
     run_tasks,
     surface_from_runs,
 )
@@ -248,6 +250,10 @@ def run_sweep(
 ) -> SweepResult:
     """Compute the surfaces of every knit of `sweep` into the folder `output`.
 
+    Knits whose sampled box follows the fabric (no `max_compression`) first run their two
+    uniaxial contraction runs, all in one batch; the batch of the surfaces' runs (what the
+    summary counts and times) follows.
+
     Args:
         sweep: the knits (`load_sweep`).
         output: the folder of the surface files and summaries (created).
@@ -264,12 +270,13 @@ def run_sweep(
     level = fidelity_level(sweep.fidelity)
     plans = [plan_run(knit.scene, level) for knit in sweep.knits]
     engines = [engine(plan) for plan in plans]
+    cache = ResultCache(Path(cache_dir or default_cache_root()) / "rve-runs")
+    plans = _follow_fabrics(plans, engines, cache, choice, progress)
     tasks, spans = [], []
     for plan, knit_engine in zip(plans, engines, strict=True):
         first = len(tasks)
         tasks += [RunTask(knit_engine, RveCase(plan.fabric, p)) for p in plan.sampling.load_paths()]
         spans.append(slice(first, len(tasks)))
-    cache = ResultCache(Path(cache_dir or default_cache_root()) / "rve-runs")
     folder = Path(output)
     folder.mkdir(parents=True, exist_ok=True)
     bar = None
@@ -287,6 +294,33 @@ def run_sweep(
     (folder / "summary.txt").write_text(table + "\n")
     (folder / SUMMARY_FILE).write_text(json.dumps(summary, indent=1, allow_nan=False))
     return SweepResult(sweep, folder, tuple(knits), batch, described, wall, table)
+
+
+def _follow_fabrics(plans, engines, cache, choice, progress) -> list[RunPlan]:
+    """`plans` with every sampled box that follows its fabric resolved
+    (`rve_rod.homogenize.generate.follow_fabric`): the contraction runs of all such knits in
+    one batch. Raises GenerationError when any of them failed (the others are cached)."""
+    following = [i for i, plan in enumerate(plans) if plan.sampling.max_compression is None]
+    tasks = [
+        RunTask(engines[i], RveCase(plans[i].fabric, path))
+        for i in following
+        for path in plans[i].sampling.contraction_paths()
+    ]
+    if not tasks:
+        return plans
+    bar = None
+    if progress:
+        bar = Progress(progress, len(tasks), cached_count(tasks, cache), label="contraction runs")
+        bar.draw()
+    batch = run_tasks(tasks, cache=cache, executor=choice, progress=bar)
+    if batch.failures:
+        raise GenerationError(failure_message(batch, cache), batch.failures)
+    resolved = list(plans)
+    per_knit = len(tasks) // len(following)
+    for n, i in enumerate(following):
+        runs = batch.runs[n * per_knit : (n + 1) * per_knit]
+        resolved[i] = plans[i]._replace(sampling=plans[i].sampling.following(runs))
+    return resolved
 
 
 def _finish_knit(knit, plan, knit_engine, batch: RunsResult, span: slice, *, folder: Path):

@@ -9,7 +9,7 @@ from rve_rod.jsonable import to_jsonable
 from rve_rod.outputs import ignore_broken_pipe
 from rve_rod.presets import Fabric, make_fabric, preset_names, stitch_values
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.yarn import BENDING_MODELS, YarnSettings
+from rve_rod.rve.yarn import BENDING_CHOICES, YarnSettings
 
 __all__ = [
     "add_bending_argument",
@@ -56,10 +56,11 @@ def add_bending_argument(parser: argparse.ArgumentParser) -> None:
     """`--bending`: how the rods' bending and twisting rigidity is found (YarnSettings.bending)."""
     parser.add_argument(
         "--bending",
-        choices=BENDING_MODELS,
+        choices=BENDING_CHOICES,
         default=YarnSettings().bending,
-        help="the rods' bending and twisting rigidity: of the yarn's section (the paper's "
-        "model) or the sum of its staple fibres' (needs fibre data: cotton-20s2)",
+        help="the rods' bending and twisting rigidity: the sum of the yarn's staple fibres' "
+        "(free-fibres; needs fibre data: cotton-20s2), of its solid section (section, the "
+        "paper's model), or auto (default): free-fibres where the fibres are known",
     )
 
 

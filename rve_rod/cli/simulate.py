@@ -27,7 +27,7 @@ from rve_rod.rve.simulation import (
     RveStep,
     simulate,
 )
-from rve_rod.rve.yarn import YarnSettings, check_bending
+from rve_rod.rve.yarn import YarnSettings, bending_model, check_bending
 
 __all__ = [
     "register",
@@ -84,17 +84,18 @@ def run_simulate(args: argparse.Namespace) -> int:
         check_output_folder("--vtk", args.vtk)
     check_count("--control-points", args.control_points, limits.CONTROL_POINTS)
     fabric = fabric_from_args(args)
-    check_bending(fabric, args.bending)
     strain = args.max_strain
     case = load_case(args.case, strain, args.steps, args.angle)
+    limit = args.penetration_limit
+    cell = CellSettings(control_points=args.control_points, penetration_limit=limit)
+    bending = bending_model(fabric, args.bending, report=True)
+    check_bending(fabric, bending)
     settings = RveSettings(
-        cell=CellSettings(
-            control_points=args.control_points, penetration_limit=args.penetration_limit
-        ),
+        cell=cell,
         yarn=YarnSettings(
             second_moment=args.second_moment,
             friction=not args.frictionless,
-            bending=args.bending,
+            bending=bending,
         ),
     )
     try:

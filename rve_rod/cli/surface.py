@@ -24,6 +24,7 @@ from rve_rod.homogenize.sampling import SamplingPlan
 from rve_rod.limits import check_count
 from rve_rod.outputs import check_output_file, check_output_folder
 from rve_rod.rve.engine import fabric_settings, surface_engine
+from rve_rod.rve.yarn import bending_model
 from rve_rod.surface import (
     STRESS_GROUPS,
     ResponseSurface,
@@ -119,9 +120,11 @@ def run_surface(args: argparse.Namespace) -> int:
         steps_per_ray=args.steps,
         shear_steps=args.shear_steps,
         max_tension=args.max_strain,
+        max_compression=None,  # follows the fabric's contraction (the scenes' default)
     )
     fit = FitOptions(spans=args.spans, shear_spans=args.shear_spans)
     engine = surface_engine(fabric_settings(fabric, args.control_points, args.bending))
+    bending_model(fabric, args.bending, report=True)  # warns of a fallback
     cache = ResultCache(cache_dir or default_runs_dir())
     try:
         generated = generate_surface(

@@ -107,8 +107,11 @@ class AnalyticRve:
         )
 
     def __call__(self, case: RveCase) -> RveRun:
-        """Follow the load path of `case`: F prescribed, P = F S(E)."""
+        """Follow the load path of `case`: F prescribed (a uniaxial path's stretch across from
+        S = 0 across), P = F S(E)."""
         F = case.load.deformation_gradients()
+        if case.load.kind == "uniaxial":
+            F = self._free_across(F, 0 if case.load.angle_deg == 0.0 else 1)
         S = self.stress(voigt(green_lagrange(F)))
         S_tensor = np.stack([S[:, [0, 2]], S[:, [2, 1]]], axis=1)
         run = RveRun(F, F @ S_tensor)
@@ -121,4 +124,32 @@ class AnalyticRve:
         partial = RveRun(F[:converged], run.first_piola[:converged], complete=False)
         raise ConvergenceError(
             f"analytic cell stops below {-self.compression_limit} compression", history=partial
+        )
+
+    def _free_across(self, F: np.ndarray, along: int) -> np.ndarray:
+        """F (k, 2, 2) with the stretch across `along` that makes the stress across vanish:
+        k (exp(b E) - 1) / b + c E_along = 0, E = ln(1 - b c E_along / k) / b; raises
+        ConvergenceError (with the states before) where no stretch does (the lateral
+        compression branch saturates at -k / b)."""
+        across = 1 - along
+        k, b = (
+            (self.wale_stiffness, self.wale_stiffening)
+            if across == 1
+            else (self.course_stiffness, self.course_stiffening)
+        )
+        c = self.coupling_22_11 if across == 1 else self.coupling_11_22
+        E_along = (F[:, along, along] ** 2 - 1.0) / 2.0
+        argument = 1.0 - b * c * E_along / k
+        free = F.copy()
+        reachable = argument > 0.0
+        E_across = np.log(np.where(reachable, argument, 1.0)) / b
+        free[:, across, across] = np.sqrt(1.0 + 2.0 * E_across)
+        if reachable.all():
+            return free
+        converged = int(np.argmin(reachable))
+        S = self.stress(voigt(green_lagrange(free[:converged])))
+        S_tensor = np.stack([S[:, [0, 2]], S[:, [2, 1]]], axis=1)
+        raise ConvergenceError(
+            "analytic cell: no stretch across frees the stress beyond this strain",
+            history=RveRun(free[:converged], free[:converged] @ S_tensor, complete=False),
         )

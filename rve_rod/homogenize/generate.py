@@ -31,7 +31,7 @@ from rve_rod.homogenize.fit import (
 )
 from rve_rod.homogenize.progress import Progress
 from rve_rod.homogenize.samples import RveCase, RveRun, SurfaceSamples, surface_samples
-from rve_rod.homogenize.sampling import SamplingPlan
+from rve_rod.homogenize.sampling import SamplingPlan, contraction
 from rve_rod.presets import Fabric
 from rve_rod.surface import ResponseSurface
 
@@ -47,6 +47,7 @@ __all__ = [
     "engine_identity",
     "execute",
     "failure_message",
+    "follow_fabric",
     "generate_surface",
     "run_cases",
     "run_tasks",
@@ -374,15 +375,29 @@ def generate_surface(
     plan = plan or SamplingPlan()
     if kind not in ("stress", "energy"):
         raise InputError(f"kind={kind!r} must be 'stress' or 'energy'")
-    outcome = run_cases(
-        [RveCase(fabric, path) for path in plan.load_paths()],
-        run,
-        cache=cache,
-        executor=executor,
-        jobs=jobs,
-        progress=progress,
-    )
+    where = {"cache": cache, "executor": executor, "jobs": jobs, "progress": progress}
+    plan = follow_fabric(fabric, run, plan, **where)
+    outcome = run_cases([RveCase(fabric, path) for path in plan.load_paths()], run, **where)
     return surface_from_runs(fabric, run, plan, options, kind=kind, outcome=outcome)
+
+
+def follow_fabric(fabric: Fabric, run, plan: SamplingPlan, **where) -> SamplingPlan:
+    """`plan`, or where it has no compression limit, the plan whose box follows the fabric's
+    contraction: its `contraction_paths` run by `run` (`where`: cache, executor, jobs, progress
+    as `run_cases`), then `SamplingPlan.following`."""
+    if plan.max_compression is not None:
+        return plan
+    paths = plan.contraction_paths()
+    outcome = run_cases([RveCase(fabric, path) for path in paths], run, **where)
+    followed = plan.following(outcome.runs)
+    logger.info(
+        "the sampled box follows the fabric: it narrows by %.3g in uniaxial tension to %.3g, "
+        "compression sampled to %.3g",
+        contraction(paths, outcome.runs),
+        plan.max_tension,
+        followed.max_compression,
+    )
+    return followed
 
 
 def surface_from_runs(

@@ -1,8 +1,8 @@
 """The rod RVE as the homogenization's engine: `surface_engine(settings)` returns a picklable
-`run(RveCase) -> RveRun` (see rve_rod.homogenize.samples) that follows a biaxial ray or the
-pure-shear path of the sampling plan on the loop cell; `fabric_settings` gives the settings
-the pipeline's levels and `rve-rod surface` use for a fabric (so that the two share cached
-runs)."""
+`run(RveCase) -> RveRun` (see rve_rod.homogenize.samples) that follows a biaxial ray, the
+pure-shear path or a uniaxial path of the sampling plan on the loop cell; `fabric_settings`
+gives the settings the pipeline's levels and `rve-rod surface` use for a fabric (so that the
+two share cached runs)."""
 
 from dataclasses import dataclass, field
 
@@ -10,9 +10,9 @@ from rve_rod.errors import ConvergenceError
 from rve_rod.homogenize.samples import RveCase, RveRun
 from rve_rod.presets import Fabric
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.load_cases import BiaxialRay, LoadCase, Shear
+from rve_rod.rve.load_cases import BiaxialRay, LoadCase, Shear, UniaxialCourse, UniaxialWale
 from rve_rod.rve.simulation import RveSettings, simulate
-from rve_rod.rve.yarn import YarnSettings, check_bending
+from rve_rod.rve.yarn import YarnSettings, bending_model, check_bending
 
 __all__ = [
     "RodRve",
@@ -27,6 +27,9 @@ def path_case(load) -> LoadCase:
     one, at the same F (a LoadPath counts steps after the reference, a LoadCase with it)."""
     if load.kind == "shear":
         return Shear(steps=load.steps + 1, max_shear=load.max_load)
+    if load.kind == "uniaxial":
+        uniaxial = UniaxialCourse if load.angle_deg == 0.0 else UniaxialWale
+        return uniaxial(steps=load.steps + 1, max_strain=load.max_load)
     return BiaxialRay(steps=load.steps + 1, angle_deg=load.angle_deg, max_load=load.max_load)
 
 
@@ -50,16 +53,18 @@ class RodRve:
         return result.to_rve_run()
 
 
-def fabric_settings(fabric: Fabric, control_points: int, bending: str = "section") -> RveSettings:
+def fabric_settings(fabric: Fabric, control_points: int, bending: str = "auto") -> RveSettings:
     """The RVE settings of every run for `fabric` (meso runs and surface runs alike):
     `control_points` per quarter loop curve, the yarn's `bending` model
-    (`rve_rod.rve.yarn.BENDING_MODELS`); a yarn without friction (mu = 0) runs without the
-    friction path (no slip history), everything else at its default. Raises InputError when
-    the bending model cannot model the fabric's yarn (`check_bending`)."""
-    check_bending(fabric, bending)
+    (`rve_rod.rve.yarn.BENDING_CHOICES`, resolved for the yarn by `bending_model`, so that
+    cache keys and surface files name the model that ran); a yarn without friction (mu = 0)
+    runs without the friction path (no slip history), everything else at its default. Raises
+    InputError when the bending model cannot model the fabric's yarn (`check_bending`)."""
+    model = bending_model(fabric, bending)
+    check_bending(fabric, model)
     return RveSettings(
         cell=CellSettings(control_points=control_points),
-        yarn=YarnSettings(friction=fabric.yarn.friction_coefficient > 0.0, bending=bending),
+        yarn=YarnSettings(friction=fabric.yarn.friction_coefficient > 0.0, bending=model),
     )
 
 

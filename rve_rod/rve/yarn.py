@@ -6,15 +6,17 @@ From yarn (r0, E0, nu, mu) and knit (w) as design.md states it (Weeger et al.):
 * translational stiffness A with E_A = E0, rotational stiffness C with E_C = 0.5 E0, from the
   section of radius r; A scaled by (r0/r)^4 and C by (r0/r)^6 (radius compensation (r0/r)^2
   and (r0/r)^4, knitting pre-tension (r0/r)^2 on both);
-* second moment of area I = pi r^4/4 (solid circle, default) or the paper's pi r^4/12;
-  or, with `YarnSettings.bending = "free-fibres"`, the bending and twisting rigidities of the
-  yarn's staple fibres summed (`rve_rod.rod.section.free_fibre_rigidity`, the yarn's `Fibres`)
-  in place of E_C I and G_C J, scaled by the pre-tension (r0/r)^2 only (they are the true
-  yarn's; docs/validation.md, "The yarn's bending rigidity");
+* bending and twisting rigidity (`YarnSettings.bending`): where the yarn's staple fibres are
+  known (the default "auto"; or "free-fibres"), the rigidities of its fibres summed
+  (`rve_rod.rod.section.free_fibre_rigidity`, the yarn's `Fibres`) in place of E_C I and
+  G_C J, scaled by the pre-tension (r0/r)^2 only (they are the true yarn's; docs/validation.md,
+  "The yarn's bending rigidity"); otherwise ("section", the paper's) E_C I and G_C J of the
+  section, I = pi r^4/4 (solid circle, default) or the paper's pi r^4/12;
 * contact: compressible-yarn penalty law k = 0.01 E0 (r0/r)^8, p = 3 - (r0/r)^3 on the
   penetration g = 2r - d (`rve_rod.contact.CompressibleYarnLaw`), Coulomb friction mu.
 """
 
+import logging
 from dataclasses import dataclass, replace
 from typing import NamedTuple
 
@@ -27,17 +29,24 @@ from rve_rod.rod import PAPER_CIRCLE, SOLID_CIRCLE, SectionStiffness
 from rve_rod.rod.section import free_fibre_rigidity
 
 __all__ = [
+    "BENDING_CHOICES",
     "BENDING_MODELS",
     "YarnModel",
     "YarnSettings",
+    "bending_model",
     "check_bending",
     "yarn_model",
 ]
 
+logger = logging.getLogger(__name__)
 
 BENDING_MODELS = ("section", "free-fibres")
 """How the rods' rotational stiffness C is found: "section", E_C I and G_C J of the yarn's
 section (the paper's; I from `second_moment`), or "free-fibres", the sum of its fibres'."""
+
+BENDING_CHOICES = ("auto", *BENDING_MODELS)
+"""A model of BENDING_MODELS, or "auto" (the default): "free-fibres" where the yarn's fibres
+are known, "section" where they are not (`bending_model`)."""
 
 
 @dataclass(frozen=True)
@@ -51,7 +60,7 @@ class YarnSettings:
         friction: apply Coulomb friction with the yarn's coefficient (default True); False
             makes the scene frictionless (no slip history at all).
         friction_stiffness_ratio: tangential penalty k_t / k (default 1).
-        bending: one of BENDING_MODELS (default "section").
+        bending: one of BENDING_CHOICES (default "auto": `bending_model`).
     """
 
     second_moment: str = SOLID_CIRCLE
@@ -59,7 +68,7 @@ class YarnSettings:
     contact_stiffness_factor: float = DEFAULT_STIFFNESS_FACTOR
     friction: bool = True
     friction_stiffness_ratio: float = 1.0
-    bending: str = "section"
+    bending: str = "auto"
 
     def __post_init__(self):
         if self.second_moment not in (SOLID_CIRCLE, PAPER_CIRCLE):
@@ -70,14 +79,15 @@ class YarnSettings:
         check_positive("rotational_modulus_factor", self.rotational_modulus_factor)
         check_positive("contact_stiffness_factor", self.contact_stiffness_factor)
         check_positive("friction_stiffness_ratio", self.friction_stiffness_ratio)
-        if self.bending not in BENDING_MODELS:
+        if self.bending not in BENDING_CHOICES:
             raise InputError(
-                f"bending={self.bending!r} is unknown; valid: {', '.join(BENDING_MODELS)}"
+                f"bending={self.bending!r} is unknown; valid: {', '.join(BENDING_CHOICES)}"
             )
-        if self.bending == "free-fibres" and self.second_moment != SOLID_CIRCLE:
+        if self.bending != "section" and self.second_moment != SOLID_CIRCLE:
             raise InputError(
-                f"second_moment={self.second_moment!r} applies to bending='section' only; "
-                "bending='free-fibres' takes the rigidities from the yarn's fibres"
+                f"second_moment={self.second_moment!r} applies to bending='section' only "
+                f"(bending={self.bending!r} takes the rigidities from the yarn's fibres where "
+                "they are known): give bending='section' with it"
             )
 
 
@@ -124,7 +134,7 @@ def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnM
         poissons_ratio=yarn.poissons_ratio,
         second_moment=settings.second_moment,
     ).scaled(translational=ratio**4, rotational=ratio**6)
-    if settings.bending == "free-fibres":
+    if bending_model(fabric, settings.bending) == "free-fibres":
         section = _free_fibre_section(section, fabric, ratio)
     friction = None
     if settings.friction and yarn.friction_coefficient > 0.0:
@@ -139,6 +149,25 @@ def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnM
         law=law,
         friction=friction,
     )
+
+
+def bending_model(fabric: Fabric, bending: str, *, report: bool = False) -> str:
+    """The model of BENDING_MODELS that `bending` (one of BENDING_CHOICES) means for
+    `fabric`: "auto" is "free-fibres" where the yarn's fibres are known, else "section"
+    (logged as a warning when `report`: the solid section overestimates a spun yarn's
+    rigidity, for cotton 20s/2 eight times, and the knit then narrows too little)."""
+    if bending != "auto":
+        return bending
+    if fabric.yarn.fibres is not None:
+        return "free-fibres"
+    if report:
+        logger.warning(
+            "yarn %s has no fibre data: its rods bend with the solid section's rigidity "
+            "(bending='section'), which overestimates a spun yarn's and underestimates the "
+            "knit's contraction (docs/validation.md, 'Yarns without fibre data')",
+            fabric.yarn.name or "(given by values)",
+        )
+    return "section"
 
 
 def check_bending(fabric: Fabric, bending: str) -> None:

@@ -11,9 +11,9 @@ from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings, LoopCell
 from rve_rod.rve.load_cases import load_case
 from rve_rod.rve.simulation import RveSettings, run_cell
-from rve_rod.rve.yarn import yarn_model
+from rve_rod.rve.yarn import YarnSettings, yarn_model
 
-COARSE = RveSettings(cell=CellSettings(control_points=20))
+COARSE = RveSettings(cell=CellSettings(control_points=20), yarn=YarnSettings(bending="section"))
 STATES = 11  # 0-20 % in 2 % steps: 10 % is state 5, 20 % state 10
 FABRIC = load_preset("cotton-20s2", 5.5)
 

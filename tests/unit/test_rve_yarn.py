@@ -8,6 +8,7 @@ from rve_rod.errors import InputError
 from rve_rod.presets import Fabric, Knit, Yarn, load_preset, stitch_values
 from rve_rod.rve.yarn import (
     YarnSettings,
+    bending_model,
     yarn_model,
 )
 
@@ -15,7 +16,7 @@ from rve_rod.rve.yarn import (
 @pytest.mark.parametrize("stitch", stitch_values("cotton-20s2"))
 def test_cotton_fabrics_are_squeezed_to_a_wale_width_over_eight(stitch):
     fabric = load_preset("cotton-20s2", stitch)
-    model = yarn_model(fabric)
+    model = yarn_model(fabric, YarnSettings(bending="section"))
     r0, E0 = 0.19, 80.0
     r = fabric.knit.wale_width / 8
     ratio = r0 / r
@@ -31,7 +32,9 @@ def test_cotton_fabrics_are_squeezed_to_a_wale_width_over_eight(stitch):
 
 def test_loose_knit_keeps_the_measured_radius_and_the_papers_inertia_option():
     fabric = load_preset("vassiliadis-sample2")  # w/8 = 0.104 > r0 = 0.0923
-    model = yarn_model(fabric, YarnSettings(second_moment="paper", friction=False))
+    model = yarn_model(
+        fabric, YarnSettings(second_moment="paper", friction=False, bending="section")
+    )
     r = 0.0923
     assert model.radius == r and not model.adjusted
     assert model.section.bending_1 == pytest.approx(0.5 * 800 * math.pi * r**4 / 12)
@@ -60,8 +63,9 @@ def test_bad_settings_are_refused():
 
 def test_free_fibre_bending_sums_the_cotton_fibres_with_the_pre_tension_scaling():
     fabric = load_preset("cotton-20s2", 5.5)
-    section = yarn_model(fabric).section
+    section = yarn_model(fabric, YarnSettings(bending="section")).section
     free = yarn_model(fabric, YarnSettings(bending="free-fibres")).section
+    assert yarn_model(fabric).section == free  # the default where the fibres are known
     ratio = 0.19 / (fabric.knit.wale_width / 8)
     # 59.1 tex of 0.17 tex fibres, 0.53 and 0.16 mN mm^2/tex^2 (Morton & Hearle), times (r0/r)^2
     assert free.bending_1 == pytest.approx(0.53e-3 * 0.17 * 59.1 * ratio**2, rel=1e-12)
@@ -76,7 +80,18 @@ def test_free_fibre_bending_sums_the_cotton_fibres_with_the_pre_tension_scaling(
 def test_free_fibre_bending_needs_fibre_data_and_no_second_moment():
     with pytest.raises(InputError, match="needs the yarn's fibres"):
         yarn_model(load_preset("vassiliadis-sample2"), YarnSettings(bending="free-fibres"))
-    with pytest.raises(InputError, match="applies to bending='section' only"):
-        YarnSettings(bending="free-fibres", second_moment="paper")
+    for bending in ("free-fibres", "auto"):
+        with pytest.raises(InputError, match="applies to bending='section' only"):
+            YarnSettings(bending=bending, second_moment="paper")
     with pytest.raises(InputError, match="bending='rope' is unknown"):
         YarnSettings(bending="rope")
+
+
+def test_a_yarn_without_fibre_data_falls_back_to_its_section_and_says_so(caplog):
+    fabric = load_preset("vassiliadis-sample2")
+    assert yarn_model(fabric).section == yarn_model(fabric, YarnSettings(bending="section")).section
+    assert bending_model(fabric, "auto") == "section" and not caplog.records
+    assert bending_model(fabric, "auto", report=True) == "section"
+    assert "has no fibre data" in caplog.records[0].getMessage()
+    assert bending_model(load_preset("cotton-20s2", 5.5), "auto", report=True) == "free-fibres"
+    assert len(caplog.records) == 1

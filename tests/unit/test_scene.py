@@ -120,13 +120,14 @@ def test_a_preset_of_the_wrong_type_is_one_problem():
     assert caught.value.problems == ["fabric.preset: expected str, got int 5"]
 
 
-def test_the_free_fibre_example_plans_the_free_fibre_rve():
-    path = Path(__file__).resolve().parents[2] / "examples" / "models" / "free_fibre_bending.toml"
+def test_the_default_bends_with_the_fibres_where_known_and_the_example_with_the_section():
+    path = Path(__file__).resolve().parents[2] / "examples" / "models" / "section_bending.toml"
     scene = load_scene(path)
-    plan = plan_run(scene, LEVELS[scene.fidelity])
+    assert plan_run(scene, LEVELS[scene.fidelity]).rve.yarn.bending == "section"
+    plan = plan_run(load_scene(), LEVELS["balanced"])
     assert plan.rve.yarn.bending == "free-fibres"
-    assert plan_run(load_scene(), LEVELS["balanced"]).rve.yarn.bending == "section"
-    # the fibre data come with the preset; a yarn given by values has none and is refused
+    # the fibre data come with the preset; a yarn given by values has none: "auto" falls back
+    # to the section, "free-fibres" is refused
     assert plan.fabric.yarn.fibres.name == "cotton"
     explicit = {
         "fabric": {
@@ -134,8 +135,9 @@ def test_the_free_fibre_example_plans_the_free_fibre_rve():
             "course_height": 1.26,
             "yarn_radius": 0.19,
             "youngs_modulus": 80.0,
-            "bending": "free-fibres",
         }
     }
+    assert plan_run(scene_from_dict(explicit), LEVELS["fast"]).rve.yarn.bending == "section"
+    explicit["fabric"]["bending"] = "free-fibres"
     with pytest.raises(InputError, match="needs the yarn's fibres"):
         plan_run(scene_from_dict(explicit), LEVELS["fast"])

@@ -78,6 +78,7 @@ def test_a_sweep_writes_the_surfaces_generate_surface_makes(tmp_path):
     result = run_sweep(
         sweep, tmp_path / "out", cache_dir=tmp_path / "cache", jobs=2, engine=analytic
     )
+    # 16 rays and the shear run per knit (its 2 uniaxial runs, which the box follows, ran first)
     assert not result.failed and result.runs.computed == 2 * 17
     level = fidelity_level("fast")
     for knit, outcome in zip(sweep.knits, result.knits, strict=True):
@@ -85,6 +86,10 @@ def test_a_sweep_writes_the_surfaces_generate_surface_makes(tmp_path):
         alone = generate_surface(plan.fabric, AnalyticRve(), plan.sampling, plan.fit).surface
         written = read_surface(outcome.surface_file)
         assert outcome.surface_file.name == f"{knit.label}.h5"
+        box = written.parameters["sampling"]["max_compression"]  # followed the fabric
+        assert plan.sampling.max_compression is None and box == alone.parameters["sampling"][
+            "max_compression"
+        ] == pytest.approx(0.10)
         for name, spline in alone.groups().items():
             np.testing.assert_array_equal(written.groups()[name].coefficients, spline.coefficients)
     again = run_sweep(sweep, tmp_path / "out", cache_dir=tmp_path / "cache", engine=analytic)

@@ -105,7 +105,9 @@ def test_strip_tensile_force_is_the_uniaxial_response_of_the_material(tmp_path, 
     strip_biaxial = homogeneous_response(surface, strain[-1], "wale", "fixed")[0]
     assert strain[-1] == pytest.approx(0.2, rel=1e-12)
     assert uniaxial < force[-1] < strip_biaxial
-    assert force[-1] == pytest.approx(uniaxial, rel=0.02)
+    # a strip four times as long as wide is nearly uniaxial: the clamps, which hold the width
+    # of a fabric that narrows, add a small part of the gap to the width held all along
+    assert (force[-1] - uniaxial) / (strip_biaxial - uniaxial) < 0.15
 
 
 def svk(**constants):

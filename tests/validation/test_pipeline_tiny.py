@@ -38,11 +38,11 @@ TINY = {
     "fidelity": "fast",
     "fabric": {"preset": "cotton-20s2", "stitch": 5.5},
     "meso": {"max_strain": 0.1, "steps": 5, "control_points": 20},
-    "surface": {"rays": 24, "max_strain": 0.12, "max_compression": 0.06, "shear_max_strain": 0.1},
+    "surface": {"rays": 24, "max_strain": 0.12, "shear_max_strain": 0.1},
     "macro": {"elements": 4, "max_strain": 0.1, "steps": 4},
 }
 SURFACE_ALONE_TOLERANCE = 0.06
-CLAMP_STIFFENING_BOUND = 0.08
+CLAMP_STIFFENING_BOUND = 0.15
 MACRO_MESO_TOLERANCE = 0.10
 
 
@@ -106,12 +106,13 @@ def statuses(result):
 def test_patch_force_at_10_percent_matches_the_rve(runs, direction):
     forces = runs["resumed"].summary["forces"][direction]
     index = forces["strain"].index(0.10)
-    meso, alone, macro = (
-        forces[key][index] for key in ("meso_gf_per_cm", "surface_gf_per_cm", "macro_gf_per_cm")
-    )
+    keys = ("meso_gf_per_cm", "surface_gf_per_cm", "macro_gf_per_cm", "centre_gf_per_cm")
+    meso, alone, macro, centre = (forces[key][index] for key in keys)
     assert abs(alone - meso) <= SURFACE_ALONE_TOLERANCE * meso
+    # the clamps hold the width of a fabric that narrows: they stiffen the patch
     assert 0.0 < macro - alone <= CLAMP_STIFFENING_BOUND * alone
-    assert abs(macro - meso) <= MACRO_MESO_TOLERANCE * meso
+    # where the gauge at the centre reads the strain, the patch carries what the RVE does
+    assert abs(centre - meso) <= MACRO_MESO_TOLERANCE * meso
 
 
 @pytest.mark.slow

@@ -17,11 +17,12 @@ from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import load_case
 from rve_rod.rve.simulation import RveSettings, simulate
+from rve_rod.rve.yarn import YarnSettings
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
 pytestmark = pytest.mark.slow
 
-COARSE = RveSettings(cell=CellSettings(control_points=20))
+COARSE = RveSettings(cell=CellSettings(control_points=20), yarn=YarnSettings(bending="section"))
 CASES = ("uniaxial-course", "uniaxial-wale")
 
 

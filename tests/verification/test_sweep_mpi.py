@@ -67,7 +67,8 @@ def test_mpi_sweep_writes_the_surface_of_the_local_sweep(tmp_path):
         assert f", {executor}, 1 " in process.stdout  # "local, 1 job" / "mpi, 1 worker rank"
         surfaces[executor] = read_surface(tmp_path / executor / "cotton-20s2_stitch-5.5.h5")
         keys[executor] = sorted(p.name for p in (tmp_path / f"cache-{executor}").rglob("*.npz"))
-    assert len(keys["local"]) == 17 and keys["mpi"] == keys["local"]
+    # 16 rays and the shear run, and the 2 uniaxial runs the sampled box follows
+    assert len(keys["local"]) == 19 and keys["mpi"] == keys["local"]
     local, mpi = surfaces["local"].groups(), surfaces["mpi"].groups()
     assert set(local) == set(mpi)
     for name, spline in local.items():
@@ -121,4 +122,4 @@ def test_a_run_raising_on_a_worker_rank_loses_no_other_run(tmp_path):
     good, bad = json.loads(process.stdout.splitlines()[-1])
     assert good == ["cotton-20s2_stitch-4.5", 17, [], True]
     assert bad == ["cotton-20s2_stitch-7.0", 16, ["RuntimeError: simulated crash"], False]
-    assert len(list((tmp_path / "cache").rglob("*.npz"))) == 33
+    assert len(list((tmp_path / "cache").rglob("*.npz"))) == 33 + 4  # and 2 uniaxial each
