@@ -180,7 +180,7 @@ def test_patch_under_mpirun_equals_the_serial_run(runs, tmp_path):
     assert statuses(result)[("macro", "wale")] == COMPUTED
     parallel, serial = result.summary["macro"]["wale"], resumed.summary["macro"]["wale"]
     assert (parallel["ranks"], serial["ranks"]) == (2, 1)
-    for key in ("force_gf_per_cm", "lateral_strain"):
+    for key in ("force_gf_per_cm", "lateral_strain", "gauge_strain", "gauge_lateral_strain"):
         np.testing.assert_allclose(parallel[key], serial[key], rtol=1e-8, atol=1e-12)
     assert (tmp_path / "paraview" / "patch_wale.xdmf").is_file()
     assert (tmp_path / "figures" / "stress_wale.png").is_file()
