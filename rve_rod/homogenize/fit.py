@@ -241,8 +241,8 @@ def monotone_least_squares(
     The unknowns become the partial sums' terms d along `axis` (c = T d, T the cumulative
     sum): the first of each line is free, the others (the differences) are bounded below. The
     equality is solved for the free unknown with the largest coefficient in it, and the
-    remaining bounded least-squares problem goes to scipy.optimize.lsq_linear (BVLS). With
-    no bound active the result is that of `constrained_least_squares`.
+    remaining bounded least-squares problem is `_bounded_least_squares`. With no bound active
+    the result is that of `constrained_least_squares`.
     """
     cumulative = np.tril(np.ones((shape[axis], shape[axis])))
     eye = np.eye(shape[1 - axis])
@@ -257,13 +257,32 @@ def monotone_least_squares(
     eliminated = system[:, rest] - np.outer(system[:, pivot], equality[rest] / equality[pivot])
     increments = np.concatenate([[-np.inf], min_increments])
     lower = np.broadcast_to(np.expand_dims(increments, 1 - axis), shape).ravel()[rest]
-    solution = scipy.optimize.lsq_linear(
-        eliminated, right, bounds=(lower, np.inf), method="bvls", tol=1e-14
-    )
+    solution = _bounded_least_squares(eliminated, right, lower)
     terms = np.empty(equality.size)
-    terms[rest] = solution.x
-    terms[pivot] = -equality[rest] @ solution.x / equality[pivot]
+    terms[rest] = solution
+    terms[pivot] = -equality[rest] @ solution / equality[pivot]
     return transform @ terms
+
+
+def _bounded_least_squares(matrix: np.ndarray, rhs: np.ndarray, lower: np.ndarray) -> np.ndarray:
+    """argmin |M x - b| subject to x >= lower (entries of `lower` may be -inf: free).
+
+    The free unknowns x_F are eliminated (for given bounded ones they are the least-squares
+    solution), x_B = lower_B + y leaves a nonnegative least-squares problem in y for the
+    projection of M_B onto the complement of range(M_F), solved by Lawson-Hanson
+    (scipy.optimize.nnls: an active-set method whose steps are least-squares solves of the
+    passive set; far faster than BVLS in Python once hundreds of bounds are active).
+    """
+    free = np.isneginf(lower)
+    bounded = ~free
+    shift = rhs - matrix[:, bounded] @ lower[bounded]
+    basis = scipy.linalg.orth(matrix[:, free])  # orthonormal basis of range(M_F)
+    projected = matrix[:, bounded] - basis @ (basis.T @ matrix[:, bounded])
+    y = scipy.optimize.nnls(projected, shift - basis @ (basis.T @ shift), maxiter=50 * lower.size)[0]
+    x = np.empty(lower.size)
+    x[bounded] = lower[bounded] + y
+    x[free] = np.linalg.lstsq(matrix[:, free], shift - matrix[:, bounded] @ y, rcond=None)[0]
+    return x
 
 
 def _slope_increments(knots: np.ndarray, degree: int, slope: float) -> np.ndarray:

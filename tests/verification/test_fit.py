@@ -3,11 +3,13 @@ energy recovery, constraints, convergence under knot refinement, asymmetry repor
 
 import numpy as np
 import pytest
+import scipy.optimize
 
 from rve_rod.errors import InputError
 from rve_rod.homogenize.analytic import AnalyticRve
 from rve_rod.homogenize.fit import (
     FitOptions,
+    _bounded_least_squares,
     fit_energy_surface,
     fit_report,
     fit_stress_surface,
@@ -268,3 +270,24 @@ def test_fit_input_errors():
         InputError, match=r"stiffness_floor=1.5 is outside the valid range \[0, 1\]"
     ):
         FitOptions(stiffness_floor=1.5)
+
+
+def test_bounded_least_squares_meets_the_optimality_conditions():
+    # A random problem with free (-inf) and bounded unknowns, many bounds active: the
+    # solution satisfies the KKT conditions of min |M x - b| s.t. x >= lower and equals BVLS's.
+    m, n = 120, 60
+    matrix = RNG.normal(size=(m, n))
+    rhs = RNG.normal(size=m)
+    lower = np.where(np.arange(n) % 4 == 0, -np.inf, RNG.uniform(-0.2, 0.2, n))
+    x = _bounded_least_squares(matrix, rhs, lower)
+    gradient = matrix.T @ (matrix @ x - rhs)
+    free = np.isneginf(lower)
+    at_bound = ~free & np.isclose(x, lower, rtol=0, atol=1e-12)
+    assert np.all(x[~free] >= lower[~free] - 1e-12)
+    assert 10 < at_bound.sum() < (~free).sum()  # the bounds matter
+    np.testing.assert_allclose(gradient[~at_bound], 0.0, atol=1e-10)
+    assert np.all(gradient[at_bound] >= -1e-10)
+    reference = scipy.optimize.lsq_linear(
+        matrix, rhs, bounds=(lower, np.inf), method="bvls", tol=1e-14
+    ).x
+    np.testing.assert_allclose(x, reference, atol=1e-10)
