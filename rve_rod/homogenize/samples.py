@@ -17,11 +17,13 @@ from rve_rod.errors import InputError
 from rve_rod.homogenize.sampling import LoadPath
 from rve_rod.presets import Fabric
 from rve_rod.stress_measures import membrane_state
+from rve_rod.surface import ResponseSurface
 
 __all__ = [
     "RveCase",
     "RveRun",
     "SurfaceSamples",
+    "stored_samples",
     "surface_samples",
 ]
 
@@ -123,4 +125,30 @@ def surface_samples(paths: tuple[LoadPath, ...], runs: tuple[RveRun, ...]) -> Su
         shear_stress=stacked["shear"][1],
         complete=np.array([run.complete for run in runs]),
         max_asymmetry=asymmetry,
+    )
+
+
+def stored_samples(surface: ResponseSurface) -> SurfaceSamples:
+    """The samples a surface file stores, as the fit takes them (to refit a surface with other
+    `FitOptions` without its RVE runs).
+
+    S11 and S22 share the (E11, E22) inputs, S12 has E12 only; the fit reads no other
+    component, so the others are left 0. Which runs the samples came from is not stored
+    (`complete` is a single True) and neither is the equilibrium check (`max_asymmetry` 0).
+    """
+    groups = surface.samples
+    if not groups:
+        raise InputError("the surface stores no samples (an analytic or hand-made surface)")
+    if not np.array_equal(groups["S11"].inputs, groups["S22"].inputs):
+        raise InputError("the surface's S11 and S22 samples have different inputs")
+    biaxial_strain = np.zeros((groups["S11"].values.size, 3))
+    biaxial_strain[:, :2] = groups["S11"].inputs
+    biaxial_stress = np.zeros_like(biaxial_strain)
+    biaxial_stress[:, 0], biaxial_stress[:, 1] = groups["S11"].values, groups["S22"].values
+    shear_strain = np.zeros((groups["S12"].values.size, 3))
+    shear_strain[:, 2] = groups["S12"].inputs[:, 0]
+    shear_stress = np.zeros_like(shear_strain)
+    shear_stress[:, 2] = groups["S12"].values
+    return SurfaceSamples(
+        biaxial_strain, biaxial_stress, shear_strain, shear_stress, np.ones(1, bool), 0.0
     )

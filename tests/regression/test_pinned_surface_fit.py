@@ -9,26 +9,8 @@ from pins import assert_pinned
 
 from knitmech.scene import default_surface_path
 from rve_rod.homogenize.fit import FitOptions, fit_stress_surface
-from rve_rod.homogenize.samples import SurfaceSamples
+from rve_rod.homogenize.samples import stored_samples
 from rve_rod.surface import read_surface
-
-
-def stored_samples(surface):
-    """The file's samples as the fit takes them: S11 and S22 share the (E11, E22) inputs, S12
-    has E12 only (the fit reads no other component, so the others are left 0)."""
-    groups = surface.samples
-    np.testing.assert_array_equal(groups["S11"].inputs, groups["S22"].inputs)
-    biaxial_strain = np.zeros((groups["S11"].values.size, 3))
-    biaxial_strain[:, :2] = groups["S11"].inputs
-    biaxial_stress = np.zeros_like(biaxial_strain)
-    biaxial_stress[:, 0], biaxial_stress[:, 1] = groups["S11"].values, groups["S22"].values
-    shear_strain = np.zeros((groups["S12"].values.size, 3))
-    shear_strain[:, 2] = groups["S12"].inputs[:, 0]
-    shear_stress = np.zeros_like(shear_strain)
-    shear_stress[:, 2] = groups["S12"].values
-    return SurfaceSamples(
-        biaxial_strain, biaxial_stress, shear_strain, shear_stress, np.ones(1, bool), 0.0
-    )
 
 
 def test_refit_of_the_shipped_surface_reproduces_its_pinned_residuals():
