@@ -78,8 +78,10 @@ def main() -> None:
     reference = stored_samples(read_surface(args.keep / "reference" / "results" / "surface.h5"))
     print("errors in %: S11/S22 against the reference's samples (RMS, largest); the material")
     print("alone against the level's uniaxial RVE runs (c: course-, w: wale-wise, at 5/10/20 %)")
-    print("level      spans  rms S11/S22  max S11/S22      c5    c10    c20     w5    w10    w20"
-          "  worst  problems")
+    print(
+        "level      spans  rms S11/S22  max S11/S22      c5    c10    c20     w5    w10    w20"
+        "  worst  problems"
+    )
     for level in args.levels.split(","):
         for spans in (int(value) for value in args.spans.split(",")):
             row = measure(args.keep / level / "results", reference, spans)

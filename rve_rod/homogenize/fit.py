@@ -278,7 +278,9 @@ def _bounded_least_squares(matrix: np.ndarray, rhs: np.ndarray, lower: np.ndarra
     shift = rhs - matrix[:, bounded] @ lower[bounded]
     basis = scipy.linalg.orth(matrix[:, free])  # orthonormal basis of range(M_F)
     projected = matrix[:, bounded] - basis @ (basis.T @ matrix[:, bounded])
-    y = scipy.optimize.nnls(projected, shift - basis @ (basis.T @ shift), maxiter=50 * lower.size)[0]
+    y = scipy.optimize.nnls(projected, shift - basis @ (basis.T @ shift), maxiter=50 * lower.size)[
+        0
+    ]
     x = np.empty(lower.size)
     x[bounded] = lower[bounded] + y
     x[free] = np.linalg.lstsq(matrix[:, free], shift - matrix[:, bounded] @ y, rcond=None)[0]
