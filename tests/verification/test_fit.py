@@ -1,6 +1,8 @@
 """Response-surface fits against known laws: exact reproduction of polynomials in the spline space,
 energy recovery, constraints, convergence under knot refinement, asymmetry reporting."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 import scipy.optimize
@@ -16,10 +18,11 @@ from rve_rod.homogenize.fit import (
     knot_vector,
 )
 from rve_rod.homogenize.generate import execute
-from rve_rod.homogenize.samples import RveCase, RveRun, surface_samples
+from rve_rod.homogenize.samples import RveCase, RveRun, stored_samples, surface_samples
 from rve_rod.homogenize.sampling import SamplingPlan
 from rve_rod.presets import load_preset
 from rve_rod.stress_measures import green_lagrange, voigt
+from rve_rod.surface import read_surface, write_surface
 
 FABRIC = load_preset("cotton-20s2", 5.5)
 RNG = np.random.default_rng(17)
@@ -291,3 +294,18 @@ def test_bounded_least_squares_meets_the_optimality_conditions():
         matrix, rhs, bounds=(lower, np.inf), method="bvls", tol=1e-14
     ).x
     np.testing.assert_allclose(x, reference, atol=1e-10)
+
+
+def test_stored_samples_refit_the_surface_they_were_stored_with(tmp_path):
+    # A surface written and read back gives its samples to a refit with the same options:
+    # the same coefficients (no RVE run needed to refit a shipped surface).
+    options = FitOptions(spans=6)
+    surface = fit_stress_surface(law_samples(monotone_polynomial_stress), options)
+    write_surface(tmp_path / "s.h5", surface)
+    refit = fit_stress_surface(stored_samples(read_surface(tmp_path / "s.h5")), options)
+    for name in ("s11", "s22", "s12"):
+        np.testing.assert_allclose(
+            getattr(refit, name).coefficients, getattr(surface, name).coefficients, atol=1e-12
+        )
+    with pytest.raises(InputError, match="stores no samples"):
+        stored_samples(dataclasses.replace(surface, samples={}))
