@@ -9,7 +9,7 @@ Two cases on the shipped cotton 20s/2 stitch 5.5 surface, at the mesh of each fi
          ball, its convergence with the mesh and the penalty, and how many steps kept the
          stabilization (could not be released).
   tube   the tube of examples/tube_inflation.toml (radius 20 mm, length 80 mm, ends
-         clamped, 0.004 N/mm^2 in 10 steps): the largest displacement.
+         clamped, the example's pressure and steps): the largest displacement.
 
 Both with the solver settings of `knitmech` (`membrane3d_solve.space_solver_options`). For
 each: DOFs, wall time (s, forms compiled beforehand), Newton iterations per step
@@ -48,6 +48,7 @@ from rve_rod.surface import read_surface
 ROOT = Path(__file__).resolve().parents[1]
 SURFACE = ROOT / "knitmech" / "data" / "cotton-20s2_stitch-5.5.h5"
 BALL_BURST = tomllib.loads((ROOT / "examples" / "ball_burst.toml").read_text())
+TUBE = tomllib.loads((ROOT / "examples" / "tube_inflation.toml").read_text())
 PENALTY = BALL_BURST["indenter"]["penalty"]
 STABILIZATION = BALL_BURST["space"]["stabilization"]
 LEVELS = {6: "fast", 10: "balanced", 20: "accurate", 40: "(finer)", 80: "(finer)"}
@@ -89,8 +90,8 @@ def tube(elements: int) -> dict:
         [Support("bottom"), Support("top")],
         course=course,
         side=side,
-        pressure=0.004,
-        options=space_solver_options(10),
+        pressure=TUBE["pressure"]["value"],
+        options=space_solver_options(TUBE["macro"]["steps"]),
     )
     start = time.perf_counter()
     result, reached = _run(problem)
