@@ -35,8 +35,8 @@ class Fidelity:
         steps_per_ray: output steps along each ray.
         shear_steps: output steps of the pure-shear run.
         spans: knot spans per input of the S11, S22 surfaces (fine enough that the knit's
-            lateral stress, which turns from slack to taut within a few thousandths of strain
-            near the free contraction, is resolved; as many as the rays support:
+            lateral stress, which turns from slack to taut within about 0.02 of strain near
+            the free contraction, is resolved; as many as the rays support:
             docs/benchmarks.md, "Knot spans").
         shear_spans: knot spans of the S12 curve (even).
         elements: elements per side of the fabric patch.
