@@ -1,8 +1,9 @@
-"""The six load cases of the knit RVE (design.md) as frozen dataclasses.
+"""The load cases of the knit RVE (design.md) as frozen dataclasses.
 
 Every case prescribes some components of the in-plane macro deformation gradient
-F = [[F11, F12], [F21, F22]] along a straight path from the identity, F(t) = I + t (F_end - I)
-for the load factor t in [0, 1], and leaves the others free (macro unknowns whose conjugate
+F = [[F11, F12], [F21, F22]] along a path from the identity, for the load factor t in [0, 1]
+(a straight path F(t) = I + t (F_end - I) except the picture-frame shear), and leaves the others
+free (macro unknowns whose conjugate
 stress P_ab vanishes). A case's `steps` counts the output states including the unloaded one:
 the default 21 steps from 0 to 20 % are 0, 1, ..., 20 % (the paper's load steps). Axis 1 is
 course-wise (x, across the wales), axis 2 wale-wise (y).
@@ -15,8 +16,12 @@ course-wise (x, across the wales), axis 2 wale-wise (y).
 | strip-biaxial-wale | F22 = 1 + eps, F11 = 1 | |
 | biaxial | F11 = 1 + t_max cos(theta), F22 = 1 + t_max sin(theta) | |
 | shear | F12 = F21 = g_max | |
+| picture-frame-shear | F = [[1, sin(t a)], [0, cos(t a)]], a = a_max | |
 
-The off-diagonal components are held at 0 except in shear (the loop is mirror symmetric about
+The picture-frame shear turns the wale-wise lattice vector by the angle a towards the course
+axis and keeps both lengths (E11 = E22 = 0, E12 = sin(a)/2): the textile picture-frame test,
+and the shear run of the paper group's data (`rve_rod.rve.paper_data`). The off-diagonal
+components are held at 0 except in the two shears (the loop is mirror symmetric about
 the wale axis, so normal strains cause no shear stress). A negative strain is compression.
 """
 
@@ -36,6 +41,7 @@ __all__ = [
     "BiaxialRay",
     "LoadCase",
     "NormalStrain",
+    "PictureFrameShear",
     "Shear",
     "StripBiaxialCourse",
     "StripBiaxialWale",
@@ -49,6 +55,10 @@ COMPONENTS = ((0, 0), (0, 1), (1, 0), (1, 1))
 
 MAX_STRAIN = 0.9
 """Largest |strain| a case accepts; beyond it a knit loop has long stopped being one."""
+
+MAX_SHEAR_ANGLE = 1.4
+"""Largest |angle| (rad, 80 degrees) of the picture-frame shear: the paper group's shear runs
+go to 1.15 rad (66 degrees); at pi/2 the lattice vectors would be parallel."""
 
 
 @dataclass(frozen=True)
@@ -218,6 +228,40 @@ class Shear(LoadCase):
         return self.max_shear
 
 
+@dataclass(frozen=True)
+class PictureFrameShear(LoadCase):
+    """Picture-frame shear F = [[1, sin(t a)], [0, cos(t a)]]: the wale-wise lattice vector
+    turned by t a towards the course axis, both lattice vectors keeping their lengths, so that
+    E11 = E22 = 0 and E12 = sin(t a)/2 along the whole path.
+
+    Attributes:
+        max_angle: a at t = 1 (rad, default 0.3; negative: the opposite sense), below pi/2.
+    """
+
+    max_angle: float = 0.3
+    name = "picture-frame-shear"
+
+    def __post_init__(self):
+        super().__post_init__()
+        check_range("max_angle", self.max_angle, -MAX_SHEAR_ANGLE, MAX_SHEAR_ANGLE)
+        if self.max_angle == 0.0:
+            raise InputError("max_angle=0 gives no load path; use a nonzero angle")
+
+    def final_deformation(self) -> np.ndarray:
+        return self.prescribed(1.0)
+
+    def prescribed(self, load_factor: float) -> np.ndarray:
+        angle = load_factor * self.max_angle
+        return np.array([[1.0, math.sin(angle)], [0.0, math.cos(angle)]])
+
+    def load_direction(self) -> np.ndarray:
+        """dF/da at a = 0 (the shear F12), signed like the angle: the measured force is P12."""
+        return math.copysign(1.0, self.max_angle) * np.array([[0.0, 1.0], [0.0, 0.0]])
+
+    def control(self) -> float:
+        return self.max_angle
+
+
 CASES = {
     case.name: case
     for case in (
@@ -227,6 +271,7 @@ CASES = {
         StripBiaxialWale,
         BiaxialRay,
         Shear,
+        PictureFrameShear,
     )
 }
 """The load case classes by name."""
@@ -243,5 +288,6 @@ def load_case(name: str, strain: float | None = None, steps: int = 21, angle_deg
         if strain is not None:
             kwargs["max_load"] = strain
     elif strain is not None:
-        kwargs["max_shear" if name == "shear" else "max_strain"] = strain
+        key = {"shear": "max_shear", "picture-frame-shear": "max_angle"}.get(name, "max_strain")
+        kwargs[key] = strain
     return CASES[name](**kwargs)

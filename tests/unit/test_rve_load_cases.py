@@ -6,10 +6,18 @@ import numpy as np
 import pytest
 
 from rve_rod.errors import InputError
-from rve_rod.rve.load_cases import CASES, BiaxialRay, Shear, UniaxialCourse, load_case
+from rve_rod.rve.load_cases import (
+    CASES,
+    BiaxialRay,
+    PictureFrameShear,
+    Shear,
+    UniaxialCourse,
+    load_case,
+)
+from rve_rod.stress_measures import green_lagrange
 
 
-def test_the_six_cases_of_the_design():
+def test_the_cases_of_the_design_and_the_picture_frame_shear():
     assert set(CASES) == {
         "uniaxial-course",
         "uniaxial-wale",
@@ -17,11 +25,36 @@ def test_the_six_cases_of_the_design():
         "strip-biaxial-wale",
         "biaxial",
         "shear",
+        "picture-frame-shear",
     }
     assert load_case("uniaxial-course").free == ((1, 1),)
     assert load_case("uniaxial-wale").free == ((0, 0),)
     for name in ("strip-biaxial-course", "strip-biaxial-wale", "biaxial", "shear"):
         assert load_case(name).free == ()
+    assert load_case("picture-frame-shear").free == ()
+
+
+@pytest.mark.parametrize("angle", [0.3, -0.7, 1.15])
+def test_picture_frame_shear_keeps_lengths_and_turns_the_wale_axis(angle):
+    """E11 = E22 = 0 and E12 = sin(t a)/2 at every state; the angle between the deformed
+    lattice vectors closes by t a; the measured force is P12."""
+    case = load_case("picture-frame-shear", angle, steps=7)
+    for t in case.load_factors():
+        F = case.prescribed(t)
+        E = green_lagrange(F)
+        np.testing.assert_allclose([E[0, 0], E[1, 1]], 0.0, atol=1e-15)
+        assert E[0, 1] == pytest.approx(math.sin(t * angle) / 2, abs=1e-15)
+        cosine = F[:, 0] @ F[:, 1] / np.linalg.norm(F[:, 0]) / np.linalg.norm(F[:, 1])
+        assert math.degrees(math.acos(cosine)) == pytest.approx(90 - math.degrees(t * angle))
+    np.testing.assert_array_equal(
+        case.load_direction(), math.copysign(1, angle) * np.array([[0, 1], [0, 0]])
+    )
+
+
+@pytest.mark.parametrize("angle", [0.0, 1.5, -2.0])
+def test_picture_frame_shear_refuses_angles_it_cannot_take(angle):
+    with pytest.raises(InputError, match="max_angle"):
+        PictureFrameShear(max_angle=angle)
 
 
 def test_default_path_is_the_papers_0_to_20_percent_in_21_steps():
