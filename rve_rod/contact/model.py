@@ -307,9 +307,7 @@ class ContactModel:
             point_yarn, np.zeros((point_yarn.size, 2), dtype=np.int64)
         )
         self._history = FrictionHistory.empty()
-        if self.friction is not None:
-            initial = self.evaluate(reference_positions, np.eye(3), tangent=False)
-            self._history = initial.trial_history
+        self.anchor_at(reference_positions, np.eye(3))
 
     @property
     def n_control_points(self) -> int:
@@ -333,6 +331,20 @@ class ContactModel:
         """Adopt the friction anchors of a converged evaluation (no-op without friction)."""
         if self.friction is not None:
             self._history = result.trial_history
+
+    def anchor_at(self, positions: np.ndarray, deformation_gradient: np.ndarray) -> None:
+        """Make the contacts of this configuration the friction anchors, each at its own
+        closest point (no slip): a state the path starts from (no-op without friction)."""
+        if self.friction is not None:
+            self._history = FrictionHistory.empty()
+            here = self.evaluate(positions, deformation_gradient, tangent=False)
+            self._history = here.trial_history
+
+    def use_law(self, law: CompressibleYarnLaw) -> None:
+        """Evaluate with `law` from now on (a contact radius grown towards the yarn's own:
+        `rve_rod.rve.cell.LoopCell.rest_state`); the search settings derived from the first
+        law's radius are kept."""
+        self.law = law
 
     def evaluate(
         self,

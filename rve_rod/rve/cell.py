@@ -25,6 +25,13 @@ law describes no yarn, and a loop under large wale-wise strain can slip its head
 legs it holds, a state Newton converges to as readily as any other (docs/validation.md).
 
 Extra unknowns: the free components of F (as F - I), then the 4 support multipliers.
+
+Rest state. The loop is built with the adjusted radius r, so its yarns just touch where the
+construction puts them 2r apart. When the contact law acts at a larger radius (the yarn's own
+r0, `YarnSettings.contact_radius = "measured"`), those contacts are squeezed at rest:
+`LoopCell.rest_state` grows the squeeze from touching to its full size at F = I (the fabric
+at its measured w and c), and the stress of that state, P0, is the cell's `rest_stress`: the
+stresses the cell reports are changes from it, and the free components balance to it.
 """
 
 import dataclasses
@@ -35,16 +42,17 @@ import numpy as np
 
 from rve_rod import limits
 from rve_rod.contact import ContactModel, ContactOptions, Patch, PeriodicLattice
-from rve_rod.errors import InputError, check_integer, check_range
+from rve_rod.errors import ConvergenceError, InputError, check_integer, check_range
 from rve_rod.geometry.bspline import BSplineCurve, join
-from rve_rod.newton import NonlinearProblem
+from rve_rod.newton import NewtonOptions, NonlinearProblem, solve_path
 from rve_rod.presets import Knit
 from rve_rod.rod import END, START, Joint, Offset, PointSupport, RodEnd, RodModel, RodPatch
 from rve_rod.rod.layout import DOFS_PER_POINT
 from rve_rod.rve.coupling import ContactCoupling
-from rve_rod.rve.load_cases import LoadCase
+from rve_rod.rve.load_cases import BiaxialRay, LoadCase
 from rve_rod.rve.macro import MacroBalance, MacroDeformation, StressParts, macro_stress
 from rve_rod.rve.yarn import YarnModel
+from rve_rod.stepping import SteppingOptions
 
 __all__ = [
     "CellSettings",
@@ -58,6 +66,9 @@ QUARTERS = 4
 
 SUPPORT_UNKNOWNS = 4
 """Multipliers of the point support: reaction force (3) and moment about the period axis."""
+
+SQUEEZE_STEPS = 10
+"""Steps the rest state's squeeze is first tried in (the path cuts back where needed)."""
 
 
 @dataclass(frozen=True)
@@ -133,7 +144,8 @@ class CellState(NamedTuple):
 
     Attributes:
         deformation: (2, 2) macro F.
-        stress: the macro stress and its parts.
+        stress: the macro stress and its parts; first_piola is P - P0 (the change from the
+            rest state), the parts are P's own (they sum to first_piola + rest_stress).
         cut_force: (3,) internal force at the cut n(END) (N).
         support_reaction: (4,) support force (3, N) and moment about the period axis (N mm).
         regularization: (2, 2) kappa H on the free components (N/mm), zero elsewhere.
@@ -159,6 +171,8 @@ class LoopCell:
     Attributes:
         curve: the periodic patch's reference centreline.
         model: the RodModel; coupling: the ContactCoupling; macro: the MacroDeformation.
+        rest_stress: (2, 2) P0 of the rest state (N/mm), zeros unless the contacts are
+            squeezed at rest (`rest_state`); `evaluate_state` reports P - P0.
     """
 
     def __init__(
@@ -172,6 +186,9 @@ class LoopCell:
         self.case = case
         self.settings = settings
         self.yarn = yarn
+        self.rest_stress = np.zeros((2, 2))
+        self._curves = list(curves)
+        self._knit = knit
         lattice = PeriodicLattice.rectangular(knit.wale_width, knit.course_height)
         period = lattice.vectors[0]
         self.curve = periodic_patch(curves, period, settings.cut, settings.control_points)
@@ -199,7 +216,14 @@ class LoopCell:
         if free:
             positions = (DOFS_PER_POINT * np.arange(n)[:, None] + np.arange(3)).ravel()
             conditions.append(
-                MacroBalance(self.macro, self.coupling, self._cut, positions, self._regularization)
+                MacroBalance(
+                    self.macro,
+                    self.coupling,
+                    self._cut,
+                    positions,
+                    self._regularization,
+                    rest_stress=self.rest_stress,
+                )
             )
         patches = RodPatch.chain([self.curve], yarn.section)
         self.model = RodModel(
@@ -228,7 +252,8 @@ class LoopCell:
         the state is refused."""
         radius = self.yarn.radius
         statistics = self.coupling.result(state, load_factor, tangent=False).statistics
-        penetration = statistics.max_penetration / radius
+        squeeze = 2.0 * (self.yarn.law.yarn_radius - radius)  # of the contact radius over r
+        penetration = (statistics.max_penetration - squeeze) / radius
         if penetration <= self.settings.penetration_limit:
             return ""
         return (
@@ -240,6 +265,51 @@ class LoopCell:
     def reference_state(self) -> np.ndarray:
         return self.model.reference_state()
 
+    def rest_state(self, newton: NewtonOptions, stepping: SteppingOptions) -> np.ndarray:
+        """The state the load path starts from (module docstring, "Rest state").
+
+        The reference configuration when the contact law acts at the loop's radius; else the
+        squeezed rest state, grown frictionless at F = I in steps of the contact radius from
+        r to the law's, with cutback (sets `rest_stress`, and makes the rest state's contacts
+        the friction anchors). Raises ConvergenceError if the squeeze cannot be grown.
+        """
+        law, radius = self.yarn.law, self.yarn.radius
+        if law.yarn_radius <= radius:
+            return self.reference_state()
+        rest = LoopCell(
+            self._curves,
+            self._knit,
+            self.yarn._replace(friction=None),
+            BiaxialRay(steps=2),
+            self.settings,
+        )
+        problem = rest.problem()
+
+        def evaluate(state, fraction):
+            grown = radius + fraction * (law.yarn_radius - radius)
+            rest.coupling.use_law(dataclasses.replace(law, yarn_radius=grown))
+            return problem.evaluate(state, 0.0)
+
+        squeezing = NonlinearProblem(evaluate, problem.residual_scale, problem.state_scale)
+        fractions = np.linspace(0.0, 1.0, SQUEEZE_STEPS + 1)[1:]
+        try:
+            path = solve_path(
+                squeezing, rest.reference_state(), fractions, stepping=stepping, newton=newton
+            )
+        except ConvergenceError as error:
+            raise ConvergenceError(
+                f"the rest state with contacts squeezed by 2 (r0 - r) = "
+                f"{2 * (law.yarn_radius - radius):.4g} mm was not found: {error}"
+            ) from error
+        squeezed = path.steps[-1].state
+        state = self.reference_state()
+        points = DOFS_PER_POINT * self.curve.n_control_points
+        state[:points] = squeezed[:points]
+        state[self._support_columns] = squeezed[points:]
+        self.rest_stress[...] = rest.evaluate_state(squeezed, 0.0).stress.first_piola
+        self.coupling.anchor_at(state, 0.0)
+        return state
+
     def positions(self, state: np.ndarray) -> np.ndarray:
         """Control-point positions (n, 3) of the patch (mm)."""
         return self.coupling.positions(state)
@@ -248,6 +318,7 @@ class LoopCell:
         """Macro F, P (with its parts), cut force and support reaction of a state."""
         end = self.model.end_values(state, self._cut)
         stress = macro_stress(self.coupling, end.force, state, load_factor)
+        stress = stress._replace(first_piola=stress.first_piola - self.rest_stress)
         regularization = np.zeros((2, 2))
         for (a, b), column in zip(self.case.free, self.macro.columns, strict=True):
             regularization[a, b] = self._regularization * state[column]

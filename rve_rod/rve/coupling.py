@@ -77,6 +77,16 @@ class ContactCoupling:
         self._cached = _Cached(np.array(state, copy=True), load_factor, tangent, result)
         return result
 
+    def use_law(self, law) -> None:
+        """Evaluate the contacts with `law` (a `CompressibleYarnLaw`) from now on."""
+        self.contact.use_law(law)
+        self._cached = None
+
+    def anchor_at(self, state: np.ndarray, load_factor: float) -> None:
+        """Make the contacts of `state` the friction anchors (`ContactModel.anchor_at`)."""
+        self.contact.anchor_at(self.positions(state), self.macro.matrix(state, load_factor))
+        self._cached = None
+
     def commit(self, state: np.ndarray, load_factor: float) -> None:
         """Adopt the friction anchors of a converged state (after each converged step).
 

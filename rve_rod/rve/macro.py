@@ -21,7 +21,7 @@ end collocation points are left out because the rod does not apply them there (t
 the periodicity conditions); the cell is cut where there is no contact (docs/rve.md).
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
@@ -125,7 +125,9 @@ def macro_stress(
 
 @dataclass(frozen=True, eq=False)
 class MacroBalance(Condition):
-    """The equations of the free macro components: P_ab + kappa H_ab = 0 for each.
+    """The equations of the free macro components: P_ab - P0_ab + kappa H_ab = 0 for each,
+    P0 the stress of the cell's rest state (zero unless its contacts are squeezed at rest:
+    `rve_rod.rve.cell.LoopCell.rest_state`), so that a free direction carries no load.
 
     kappa is a tiny regularizing stiffness (N/mm per unit strain): without any contact with
     the images P_22 does not depend on F22 at all (the courses slide apart or together
@@ -139,6 +141,8 @@ class MacroBalance(Condition):
         end: the rod end at the cut whose internal force is n_cut.
         position_columns: (3n,) state indices of all control-point positions.
         regularization: kappa (N/mm).
+        rest_stress: (2, 2) P0 (N/mm), filled in place by the cell once its rest state is
+            known (zeros until then).
     """
 
     macro: MacroDeformation
@@ -146,6 +150,7 @@ class MacroBalance(Condition):
     end: RodEnd
     position_columns: np.ndarray
     regularization: float
+    rest_stress: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))
 
     @property
     def extra_equations(self) -> int:  # type: ignore[override]
@@ -185,7 +190,7 @@ class MacroBalance(Condition):
                 )
             )
             jacobian = np.zeros(columns.size)
-            value = self.regularization * state[unknown]
+            value = self.regularization * state[unknown] - self.rest_stress[a, b]
             jacobian[self.position_columns.size + row] = self.regularization
             if k:
                 weights, _ = image_weights(coupling, result, b)

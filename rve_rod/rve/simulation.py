@@ -74,12 +74,13 @@ class RveStep:
         strain: the case's control value at this state (eps, ray t or shear g).
         deformation: (2, 2) macro F.
         green_lagrange: (3,) E = (E11, E22, E12).
-        first_piola: (2, 2) P (N/mm).
+        first_piola: (2, 2) P (N/mm), measured from the rest state (the change from the
+            result's `rest_stress`; P itself when nothing is squeezed at rest).
         second_piola: (3,) S = F^-1 P, symmetrized (N/mm).
         stress_parts: (3, 2, 2) P split by where it is carried: the yarn force through the
             periodic cut, the normal loads and the friction loads of the contacts with the
-            lattice images (N/mm); they sum to `first_piola` (docs/validation.md, "Why the
-            knit contracts too little").
+            lattice images (N/mm); they sum to `first_piola` plus the result's `rest_stress`
+            (docs/validation.md, "Why the knit contracts too little").
         reaction: (2, 2) force on the cell faces (N): column b is P[:, b] times the length of
             the face normal to axis b (c for b = 1, w for b = 2).
         force_n: the reaction along the load direction, sum_ab D_ab reaction_ab (N).
@@ -137,6 +138,8 @@ class RveResult:
         newton_iterations: all Newton iterations of the run (as counted per step), including
             the zero-strain solve and, for a run that stopped, the tries after its last state.
         wall_time_s: wall time of the run, model building included (s).
+        rest_stress: (2, 2) P0 of the rest state the stresses are measured from (N/mm; zero
+            unless the contacts are squeezed at rest, `LoopCell.rest_state`).
     """
 
     case: LoadCase
@@ -150,6 +153,7 @@ class RveResult:
     centrelines: np.ndarray
     newton_iterations: int
     wall_time_s: float
+    rest_stress: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))
 
     def series(self, name: str) -> np.ndarray:
         """One attribute of every step as an array, e.g. series("force_gf_per_cm")."""
@@ -224,6 +228,7 @@ class RveResult:
             "stress_parts": self.series("stress_parts").tolist(),
             "reaction_n": self.series("reaction").tolist(),
             "support_reaction": self.series("support_reaction").tolist(),
+            "rest_stress": self.rest_stress.tolist(),
         }
 
 
@@ -376,10 +381,17 @@ def run_cell(
             centrelines=np.array([cell.positions(state) for state in states]),
             newton_iterations=iterations,
             wall_time_s=time.perf_counter() - started,
+            rest_stress=cell.rest_stress.copy(),
         )
 
     problem = recorder.wrapped()
-    initial = newton_solve(problem, cell.reference_state(), 0.0, settings.newton)
+    try:
+        rest = cell.rest_state(settings.newton, settings.stepping)
+    except ConvergenceError as error:
+        raise ConvergenceError(
+            str(error), history=result(False, "no rest state", recorder.evaluations)
+        ) from error
+    initial = newton_solve(problem, rest, 0.0, settings.newton)
     if not initial.converged:
         raise ConvergenceError(
             f"the unloaded cell has no equilibrium: {initial.reason} after "

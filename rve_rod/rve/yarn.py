@@ -13,7 +13,10 @@ From yarn (r0, E0, nu, mu) and knit (w) as design.md states it (Weeger et al.):
   "The yarn's bending rigidity"); otherwise ("section", the paper's) E_C I and G_C J of the
   section, I = pi r^4/4 (solid circle, default) or the paper's pi r^4/12;
 * contact: compressible-yarn penalty law k = 0.01 E0 (r0/r)^8, p = 3 - (r0/r)^3 on the
-  penetration g = 2r - d (`rve_rod.contact.CompressibleYarnLaw`), Coulomb friction mu.
+  penetration g = 2r - d (`rve_rod.contact.CompressibleYarnLaw`), Coulomb friction mu; with
+  `YarnSettings.contact_radius = "measured"` the law acts at the yarn's own radius r0 instead
+  (g = 2 r0 - d), so that the unloaded loop's contacts are squeezed by 2 (r0 - r)
+  (`CONTACT_RADII`).
 """
 
 import logging
@@ -31,6 +34,7 @@ from rve_rod.rod.section import free_fibre_rigidity
 __all__ = [
     "BENDING_CHOICES",
     "BENDING_MODELS",
+    "CONTACT_RADII",
     "YarnModel",
     "YarnSettings",
     "bending_model",
@@ -48,6 +52,13 @@ BENDING_CHOICES = ("auto", *BENDING_MODELS)
 """A model of BENDING_MODELS, or "auto" (the default): "free-fibres" where the yarn's fibres
 are known, "section" where they are not (`bending_model`)."""
 
+CONTACT_RADII = ("adjusted", "measured")
+"""The radius the contact law acts at: "adjusted" (the default), the loop's r = min(r0, w/8):
+the yarns of the unloaded loop just touch; "measured", the yarn's own minimal radius r0: where
+the knit leaves the yarn less room than it needs (r < r0), every contact of the unloaded loop
+is squeezed by 2 (r0 - r), and the cell starts from that pre-loaded rest state
+(`rve_rod.rve.cell.LoopCell.rest_state`; docs/validation.md, "The paper group's RVE")."""
+
 
 @dataclass(frozen=True)
 class YarnSettings:
@@ -61,6 +72,7 @@ class YarnSettings:
             makes the scene frictionless (no slip history at all).
         friction_stiffness_ratio: tangential penalty k_t / k (default 1).
         bending: one of BENDING_CHOICES (default "auto": `bending_model`).
+        contact_radius: one of CONTACT_RADII (default "adjusted").
     """
 
     second_moment: str = SOLID_CIRCLE
@@ -69,6 +81,7 @@ class YarnSettings:
     friction: bool = True
     friction_stiffness_ratio: float = 1.0
     bending: str = "auto"
+    contact_radius: str = "adjusted"
 
     def __post_init__(self):
         if self.second_moment not in (SOLID_CIRCLE, PAPER_CIRCLE):
@@ -82,6 +95,11 @@ class YarnSettings:
         if self.bending not in BENDING_CHOICES:
             raise InputError(
                 f"bending={self.bending!r} is unknown; valid: {', '.join(BENDING_CHOICES)}"
+            )
+        if self.contact_radius not in CONTACT_RADII:
+            raise InputError(
+                f"contact_radius={self.contact_radius!r} is unknown; valid: "
+                f"{', '.join(CONTACT_RADII)}"
             )
         if self.bending != "section" and self.second_moment != SOLID_CIRCLE:
             raise InputError(
@@ -99,7 +117,8 @@ class YarnModel(NamedTuple):
         minimal_radius: r0 (mm).
         adjusted: True when r < r0 (the knit is tighter than the yarn).
         section: the scaled section stiffness of the rods.
-        law: the normal contact law.
+        law: the normal contact law; its yarn_radius is the contact radius (r, or r0 with
+            `YarnSettings.contact_radius = "measured"`).
         friction: Coulomb friction, or None (frictionless scene).
     """
 
@@ -127,6 +146,8 @@ def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnM
         youngs_modulus=yarn.youngs_modulus,
         stiffness_factor=settings.contact_stiffness_factor,
     )
+    if settings.contact_radius == "measured":
+        law = replace(law, yarn_radius=r0)
     section = SectionStiffness.circular(
         r,
         yarn.youngs_modulus,

@@ -1,0 +1,170 @@
+"""Which ingredient makes our RVE differ from the paper group's: a sensitivity table (issue 27).
+
+Each row varies ONE ingredient, from the paper's section model (`bending="section"`) or from
+the default (free-fibre bending), and is compared with the group's data at stitch 4.5, 5.5
+and 6.5 (`rve_rod.rve.paper_comparison`): along their 12 biaxial rays at every converged state
+of theirs (rays within the 20 % target; the median over the rays of each ray's worst error;
+the mean error at the first state, which measures the stiffness at rest), their picture-frame
+shear (the error at their state 6, 20 degrees, and 12, 40 degrees), and the uniaxial forces and
+Poisson ratios at 20 % against their readings. The last rows combine ingredients. The table
+goes into docs/validation.md ("The paper group's RVE").
+
+    .venv/bin/python benchmarks/paper_rve_sensitivity.py [--control-points 28]
+        [--stitches 4.5,5.5,6.5] [--only NAME ...]
+
+About 3 minutes per row at 28 control points on a quiet core.
+"""
+
+import argparse
+import dataclasses
+import time
+from collections.abc import Callable
+from typing import NamedTuple
+
+import numpy as np
+
+from rve_rod.errors import ConvergenceError
+from rve_rod.geometry.loop import single_jersey_loop
+from rve_rod.presets import Fabric, load_preset
+from rve_rod.rve.cell import CellSettings, LoopCell
+from rve_rod.rve.load_cases import LoadCase
+from rve_rod.rve.paper_comparison import compare_run, run_or_history, uniaxial_comparison
+from rve_rod.rve.paper_data import UNIAXIAL_READINGS, biaxial_rays, shear_run
+from rve_rod.rve.simulation import RveSettings, loop_curves, run_cell
+from rve_rod.rve.yarn import YarnModel, YarnSettings, yarn_model
+
+
+class Variant(NamedTuple):
+    """One row: its name, YarnSettings fields, and changes of the yarn model or the loop."""
+
+    name: str
+    yarn_settings: dict
+    yarn: Callable[[YarnModel], YarnModel] | None = None
+    profile: str = "band"
+
+
+def with_exponent(exponent: float) -> Callable[[YarnModel], YarnModel]:
+    def change(yarn: YarnModel) -> YarnModel:
+        return yarn._replace(law=dataclasses.replace(yarn.law, exponent=exponent))
+
+    return change
+
+
+SECTION = {"bending": "section"}
+FIBRES = {"bending": "free-fibres"}
+VARIANTS = (
+    Variant("section (the paper's ingredients)", SECTION),
+    Variant("section, I = pi r^4/12", {**SECTION, "second_moment": "paper"}),
+    Variant("section, frictionless", {**SECTION, "friction": False}),
+    Variant("section, contact stiffness x3", {**SECTION, "contact_stiffness_factor": 0.03}),
+    Variant("section, contact exponent p = 1", SECTION, with_exponent(1.0)),
+    Variant("section, contact at r0 (squeezed rest)", {**SECTION, "contact_radius": "measured"}),
+    Variant("section, parabolic loop", SECTION, profile="parabolic"),
+    Variant("free fibres (the default)", FIBRES),
+    Variant("free fibres, frictionless", {**FIBRES, "friction": False}),
+    Variant("free fibres, contact stiffness x3", {**FIBRES, "contact_stiffness_factor": 0.03}),
+    Variant("free fibres, contact exponent p = 1", FIBRES, with_exponent(1.0)),
+    Variant("free fibres, contact at r0 (squeezed rest)", {**FIBRES, "contact_radius": "measured"}),
+    Variant("free fibres, parabolic loop", FIBRES, profile="parabolic"),
+    Variant(
+        "free fibres, contact at r0 and x3",
+        {**FIBRES, "contact_radius": "measured", "contact_stiffness_factor": 0.03},
+    ),
+    Variant(
+        "section I = pi r^4/12, contact x3",
+        {**SECTION, "second_moment": "paper", "contact_stiffness_factor": 0.03},
+    ),
+)
+
+
+def runner(variant: Variant) -> Callable[[Fabric, LoadCase, RveSettings], object]:
+    """`simulate` with the variant's yarn model and loop."""
+    if variant.yarn is None and variant.profile == "band":
+        return run_or_history
+
+    def run(fabric: Fabric, case: LoadCase, settings: RveSettings):
+        if variant.profile == "band":
+            curves = loop_curves(fabric)
+        else:
+            knit = fabric.knit
+            loop = single_jersey_loop(
+                knit.wale_width,
+                knit.course_height,
+                fabric.yarn.minimal_radius,
+                profile=variant.profile,
+            )
+            curves = list(loop.curves)
+        yarn = yarn_model(fabric, settings.yarn)
+        if variant.yarn is not None:
+            yarn = variant.yarn(yarn)
+        cell = LoopCell(curves, fabric.knit, yarn, case, settings.cell)
+        try:
+            return run_cell(cell, fabric, settings)
+        except ConvergenceError as error:
+            return error.history
+
+    return run
+
+
+def measure(variant: Variant, stitch: float, control_points: int) -> dict:
+    settings = RveSettings(
+        cell=CellSettings(control_points=control_points),
+        yarn=YarnSettings(**variant.yarn_settings),
+    )
+    fabric = load_preset("cotton-20s2", stitch)
+    run = runner(variant)
+    rays = [compare_run(fabric, ray, settings, runner=run) for ray in biaxial_rays(stitch)]
+    rays = [ray for ray in rays if ray.states]
+    worst = np.array([ray.worst() for ray in rays])
+    first = np.array([ray.errors()[0] for ray in rays])
+    shear = compare_run(fabric, shear_run(stitch), settings, states=12, runner=run).errors()
+    uniaxial = uniaxial_comparison(fabric, settings, (0.2,), steps_per_percent=0.5, runner=run)
+    return {
+        "passed": int(np.sum(worst <= 0.2)),
+        "rays": len(rays),
+        "median": float(np.median(worst)),
+        "first": float(np.nanmean(np.where(np.isfinite(first), first, np.nan))),
+        "shear": (float(shear[5]), float(shear[11])),
+        "uniaxial": uniaxial,
+    }
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--control-points", type=int, default=28)
+    parser.add_argument("--stitches", default="4.5,5.5,6.5")
+    parser.add_argument("--only", nargs="*", help="rows whose name contains one of these")
+    args = parser.parse_args()
+    stitches = [float(s) for s in args.stitches.split(",")]
+    print(
+        "| variant | stitch | rays within 20 % | median worst error | mean error at the first "
+        "state | shear error at 20 / 40 deg | course F 20 % (theirs) | nu12 (theirs) | "
+        "wale F 20 % (theirs) | nu21 (theirs) | wall s |"
+    )
+    print("|---|---:|---:|---:|---:|---|---|---|---|---|---:|")
+    for variant in VARIANTS:
+        if args.only and not any(word in variant.name for word in args.only):
+            continue
+        for stitch in stitches:
+            started = time.perf_counter()
+            row = measure(variant, stitch, args.control_points)
+            u = row["uniaxial"]
+            reading = UNIAXIAL_READINGS[(stitch, 0.2)]
+            theirs = {
+                name: " / ".join("-" if v is None else f"{v:g}" for v in getattr(reading, name))
+                for name in ("course_force", "nu12", "wale_force", "nu21")
+            }
+            print(
+                f"| {variant.name} | {stitch:g} | {row['passed']} of {row['rays']} | "
+                f"{row['median']:.2f} | {row['first']:.2f} | "
+                f"{row['shear'][0]:.2f} / {row['shear'][1]:.2f} | "
+                f"{u.course_force[0]:.1f} ({theirs['course_force']}) | "
+                f"{u.nu12[0]:.2f} ({theirs['nu12']}) | {u.wale_force[0]:.1f} "
+                f"({theirs['wale_force']}) | {u.nu21[0]:.2f} ({theirs['nu21']}) | "
+                f"{time.perf_counter() - started:.0f} |",
+                flush=True,
+            )
+
+
+if __name__ == "__main__":
+    main()
