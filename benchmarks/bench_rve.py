@@ -38,8 +38,9 @@ FABRIC = load_preset("cotton-20s2", 5.5)
 # Profile rows: (label, functions whose inclusive time the row adds, (callee, callers) pairs
 # whose time the row subtracts: the callee's time when called directly from one of the callers,
 # or from anywhere for callers None). A function is "file suffix:name"; "~:name" is a built-in.
-LU_FACTOR = "linsolve.py:splu"
-LU_SOLVE = "~:<method 'solve' of 'SuperLU' objects>"
+LU_ORDER = "newton.py:node_ordering"
+LU_FACTOR = "newton.py:_factorize"
+LU_SOLVE = "newton.py:solve"
 CONTACT = "contact/model.py:evaluate"
 BROAD = (
     "broad_phase.py:group_boxes",
@@ -63,8 +64,9 @@ BUILD = "rve/simulation.py:build_cell"
 IN_SEARCH = ("contact/model.py:_closest_points", "contact/model.py:_region_weights")
 
 ROWS = (
-    ("sparse LU factorization (SuperLU)", (LU_FACTOR,), ()),
-    ("sparse LU solves", (LU_SOLVE,), ()),
+    ("sparse LU: ordering", (LU_ORDER,), ()),
+    ("sparse LU: factorization (SuperLU)", (LU_FACTOR,), ((LU_ORDER, None),)),
+    ("sparse LU: solves, refinement with old factors", (LU_SOLVE,), ((LU_FACTOR, None),)),
     ("contact: broad phase (boxes, images, candidates)", BROAD, ()),
     ("contact: closest-point projection", (PROJECT,), ()),
     ("contact: region weights without their maxima", (REGIONS,), ((MAXIMA, None),)),
@@ -151,6 +153,7 @@ def profile_parts(bending: str) -> tuple[dict[str, float], dict[str, int]]:
     counts = {
         "evaluations": _inclusive(stats, EVALUATE)[1],
         "factorizations": _inclusive(stats, LU_FACTOR)[1],
+        "linear solves": _inclusive(stats, LU_SOLVE)[1],
         "contact evaluations": _inclusive(stats, CONTACT)[1],
     }
     return parts, counts
@@ -178,8 +181,8 @@ def reference(repeats: int, bending: str) -> None:
     parts, counts = profile_parts(bending)
     print(
         f"\nprofile of one run (cProfile): {counts['evaluations']} residual evaluations, "
-        f"{counts['factorizations']} LU factorizations, {counts['contact evaluations']} contact "
-        "evaluations\n"
+        f"{counts['linear solves']} linear solves, {counts['factorizations']} LU factorizations, "
+        f"{counts['contact evaluations']} contact evaluations\n"
     )
     print("| part | s | ms per evaluation | share |\n|---|---:|---:|---:|")
     for name, seconds in parts.items():

@@ -470,7 +470,14 @@ class RodModel:
             residual_scale=self.residual_scale(),
             state_scale=self.state_scale(),
             commit=commit,
+            nodes=self.nodes(),
         )
+
+    def nodes(self) -> np.ndarray:
+        """(n_dofs,) the node of each unknown for the LU's "NODES" ordering: the control
+        point of its 7 unknowns, -1 for the extra unknowns (`NonlinearProblem.nodes`)."""
+        points = np.repeat(np.arange(self.n_collocation), DOFS_PER_POINT)
+        return np.concatenate([points, np.full(self.layout.n_extra, -1)])
 
     def residual_scale(self) -> np.ndarray:
         """Typical magnitude of each residual row (for dimensionless convergence norms).
