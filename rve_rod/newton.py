@@ -268,9 +268,24 @@ def node_ordering(pattern: scipy.sparse.spmatrix, nodes: np.ndarray) -> np.ndarr
     return np.argsort(rank[nodes], kind="stable")
 
 
-_REORDER_FILL = 1.25
+_REORDER_FILL = 1.05
 """The "NODES" ordering is made anew once the factors' nonzeros exceed this multiple of their
 count right after it was made."""
+
+
+def _permuted(matrix: scipy.sparse.spmatrix, order: np.ndarray) -> scipy.sparse.csc_matrix:
+    """P A P^T in CSC form (sorted indices): row and column k of the result are row and column
+    order[k] of A (one gather of A's CSR rows and one transposition)."""
+    rows = scipy.sparse.csr_matrix(matrix)
+    inverse = np.empty_like(order)
+    inverse[order] = np.arange(order.size)
+    lengths = np.diff(rows.indptr)[order]
+    indptr = np.concatenate([[0], np.cumsum(lengths)])
+    gather = np.repeat(rows.indptr[order] - indptr[:-1], lengths) + np.arange(indptr[-1])
+    permuted = scipy.sparse.csr_matrix(
+        (rows.data[gather], inverse[rows.indices[gather]], indptr), shape=rows.shape
+    )
+    return permuted.tocsc()
 
 
 class _Factors(NamedTuple):
@@ -358,14 +373,14 @@ class LinearSolver:
             if fresh:
                 self._order = node_ordering(jacobian, self.nodes)
             order, ordering = self._order, "NATURAL"
-            matrix = scipy.sparse.csr_matrix(jacobian)[order][:, order]
+            matrix = _permuted(jacobian, order)
         lu = scipy.sparse.linalg.splu(
             scipy.sparse.csc_matrix(matrix), permc_spec=ordering, diag_pivot_thresh=pivot_threshold
         )
         self._factors = _Factors(lu, order)
         self.factorizations += 1
         if order is not None:
-            fill = lu.L.nnz + lu.U.nnz
+            fill = lu.nnz
             if fresh:
                 self._ordered_fill = fill
             elif fill > _REORDER_FILL * self._ordered_fill:

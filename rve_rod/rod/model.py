@@ -441,10 +441,14 @@ class RodModel:
                             f"condition {condition!r} changed the shape of a Jacobian block"
                         )
                     data_values.append(values)
-        np.add.at(residual, np.concatenate(residual_rows), np.concatenate(residual_values))
+        residual += np.bincount(
+            np.concatenate(residual_rows), np.concatenate(residual_values), minlength=self.n_dofs
+        )
         jacobian = None
         if with_jacobian:
-            np.add.at(data, self._pattern.condition_positions, np.concatenate(data_values))
+            data += np.bincount(
+                self._pattern.condition_positions, np.concatenate(data_values), minlength=data.size
+            )
             jacobian = scipy.sparse.csr_matrix(
                 (data, self._pattern.indices, self._pattern.indptr),
                 shape=(self.n_dofs, self.n_dofs),
