@@ -48,6 +48,7 @@ from rve_rod.errors import (
 from rve_rod.stepping import StepController, SteppingOptions
 
 __all__ = [
+    "LINEAR_SOLVER_OPTIONS",
     "LinearSolver",
     "NewtonOptions",
     "NewtonResult",
@@ -90,6 +91,11 @@ class NonlinearProblem:
 
 
 _ORDERINGS = ("COLAMD", "NATURAL", "MMD_ATA", "MMD_AT_PLUS_A", "NODES")
+
+LINEAR_SOLVER_OPTIONS = ("ordering", "pivot_threshold", "refinement", "linear_tolerance")
+"""The fields of `NewtonOptions` that choose how the linear systems are solved: they change
+the cost of a solve, not its solution beyond round-off (every increment meets the linear
+tolerance or is a direct solve), so cache keys leave them out (`rve_rod.rve.RodRve`)."""
 
 
 @dataclass(frozen=True)
