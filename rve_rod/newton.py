@@ -251,6 +251,8 @@ def node_ordering(pattern: scipy.sparse.spmatrix, nodes: np.ndarray) -> np.ndarr
     """
     nodes = np.asarray(nodes, dtype=np.int64)
     count = int(nodes.max()) + 1 if nodes.size else 0
+    if count == 0:
+        return np.arange(nodes.size)
     coupling = pattern.tocoo()
     rows, columns = nodes[coupling.row], nodes[coupling.col]
     inside = (rows >= 0) & (columns >= 0)

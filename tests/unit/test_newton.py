@@ -235,6 +235,11 @@ def test_node_ordering_keeps_nodes_together_and_lowers_the_fill():
     assert reordered.L.nnz + reordered.U.nnz < 0.7 * (natural.L.nnz + natural.U.nnz)
 
 
+def test_unknowns_without_nodes_keep_their_order():
+    order = node_ordering(scipy.sparse.identity(3, format="csr"), np.full(3, -1))
+    np.testing.assert_array_equal(order, [0, 1, 2])
+
+
 def test_linear_solver_reuses_factors_while_refinement_reaches_the_tolerance():
     matrix, nodes = ring_with_chords(40, 13)
     rng = np.random.default_rng(1)
