@@ -16,21 +16,40 @@ the model does not describe, e.g. yarns squeezed through each other) counts as a
 attempt, so the increment is cut back towards the last admissible state. After every
 accepted step the problem's `commit` hook runs (history variables such as friction slip). If
 the path cannot be continued, `ConvergenceError` carries the last accepted step and every
-step before it. Linear systems are solved by SuperLU (scipy.sparse.linalg.splu).
+step before it.
+
+Linear systems are solved by SuperLU (scipy.sparse.linalg.splu) through `LinearSolver`: in the
+column ordering of `NewtonOptions.ordering`, where "NODES" orders the graph of the problem's
+nodes (`NonlinearProblem.nodes`, e.g. the control points of a rod, 7 unknowns each) by minimum
+degree and keeps each node's unknowns together, and with threshold pivoting
+(`pivot_threshold`). With `refinement` > 0 the factors of the last factorized Jacobian are kept
+along the path: the next system is first solved by iterative refinement with them, and the
+Jacobian is factorized anew only when that does not bring the linear residual down to
+`linear_tolerance` of the right-hand side within `refinement` corrections (late Newton
+iterations change the Jacobian little, so they mostly need no factorization).
 """
 
 import logging
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse
 import scipy.sparse.linalg
 
-from rve_rod.errors import ConvergenceError, InputError, check_integer, check_positive
+from rve_rod.errors import (
+    ConvergenceError,
+    InputError,
+    check_integer,
+    check_positive,
+    check_range,
+)
 from rve_rod.stepping import StepController, SteppingOptions
 
 __all__ = [
+    "LINEAR_SOLVER_OPTIONS",
+    "LinearSolver",
     "NewtonOptions",
     "NewtonResult",
     "NonlinearProblem",
@@ -58,6 +77,9 @@ class NonlinearProblem:
         admissible: called as admissible(state, load_factor) on every converged state before
             it is accepted; returns "" to accept it, else why it is refused (the path then
             cuts back as after a failed solve). None accepts every converged state.
+        nodes: (n,) the node of each unknown, for the "NODES" ordering of the LU (unknowns of
+            one node, e.g. one control point's, are ordered together); -1 for unknowns to be
+            ordered last (few dense rows and columns, e.g. macro unknowns). None: no nodes.
     """
 
     evaluate: Evaluate
@@ -65,9 +87,15 @@ class NonlinearProblem:
     state_scale: float | np.ndarray = 1.0
     commit: Callable[[np.ndarray, float], None] | None = None
     admissible: Callable[[np.ndarray, float], str] | None = None
+    nodes: np.ndarray | None = None
 
 
-_ORDERINGS = ("COLAMD", "NATURAL", "MMD_ATA", "MMD_AT_PLUS_A")
+_ORDERINGS = ("COLAMD", "NATURAL", "MMD_ATA", "MMD_AT_PLUS_A", "NODES")
+
+LINEAR_SOLVER_OPTIONS = ("ordering", "pivot_threshold", "refinement", "linear_tolerance")
+"""The fields of `NewtonOptions` that choose how the linear systems are solved: they change
+the cost of a solve, not its solution beyond round-off (every increment meets the linear
+tolerance or is a direct solve), so cache keys leave them out (`rve_rod.rve.RodRve`)."""
 
 
 @dataclass(frozen=True)
@@ -85,9 +113,22 @@ class NewtonOptions:
             costs one evaluation; it damps the cycles Newton can fall into on non-smooth or
             nearly singular systems (contact that barely touches, a free direction that is
             almost unloaded).
-        ordering: column ordering of the sparse LU (SuperLU's permc_spec): "COLAMD"
-            (default), "NATURAL" (for banded systems whose few dense rows and columns come
-            last), "MMD_ATA" or "MMD_AT_PLUS_A".
+            A trial whose scaled residual already meets `residual_tolerance` is not damped
+            (at that level the merit is round-off, and damping only slows the increment's
+            convergence).
+        ordering: column ordering of the sparse LU: SuperLU's permc_spec "COLAMD" (default),
+            "NATURAL" (for banded systems whose few dense rows and columns come last),
+            "MMD_ATA" or "MMD_AT_PLUS_A", or "NODES": minimum degree on the graph of the
+            problem's nodes (`NonlinearProblem.nodes`; the unknowns without a node last).
+        pivot_threshold: SuperLU's diag_pivot_thresh in [0, 1]: the diagonal is taken as the
+            pivot when its magnitude is at least this fraction of its column's largest (1,
+            the default: partial pivoting; 0.01 keeps the ordering's fill and is stable on
+            the rod's systems).
+        refinement: iterative-refinement corrections with the last LU factors tried before
+            a Jacobian is factorized anew (default 0: every Jacobian is factorized).
+        linear_tolerance: a refined solution is accepted when the scaled max-norm of its
+            linear residual J du + R is at most this fraction of that of R (default 1e-8;
+            a direct solve of the rod RVE's systems reaches 1e-11 to 1e-10).
     """
 
     residual_tolerance: float = 1e-10
@@ -96,6 +137,9 @@ class NewtonOptions:
     divergence_factor: float = 1e8
     line_search: int = 0
     ordering: str = "COLAMD"
+    pivot_threshold: float = 1.0
+    refinement: int = 0
+    linear_tolerance: float = 1e-8
 
     def __post_init__(self):
         check_positive("residual_tolerance", self.residual_tolerance)
@@ -107,6 +151,9 @@ class NewtonOptions:
             raise InputError(
                 f"ordering={self.ordering!r} is unknown; valid: {', '.join(_ORDERINGS)}"
             )
+        check_range("pivot_threshold", self.pivot_threshold, 0.0, 1.0)
+        check_integer("refinement", self.refinement, 0, 20)
+        check_range("linear_tolerance", self.linear_tolerance, 0.0, 1.0, closed=False)
 
 
 @dataclass(frozen=True, eq=False)
@@ -189,13 +236,209 @@ def _mean_square(values: np.ndarray, scale) -> float:
     return value if np.isfinite(value) else np.inf
 
 
+def node_ordering(pattern: scipy.sparse.spmatrix, nodes: np.ndarray) -> np.ndarray:
+    """The "NODES" ordering: a permutation (n,) of the unknowns, new position k holding
+    unknown order[k].
+
+    The graph of the nodes (an edge where any unknown of one node couples with any of the
+    other in `pattern`, either way) is ordered by minimum degree (SuperLU's MMD on A^T + A,
+    applied to the node graph); each node's unknowns follow in their own order, and the
+    unknowns without a node (-1) come last in theirs.
+
+    Args:
+        pattern: (n, n) sparse matrix whose nonzeros are the couplings.
+        nodes: (n,) node of each unknown in [0, N), or -1.
+    """
+    nodes = np.asarray(nodes, dtype=np.int64)
+    count = int(nodes.max()) + 1 if nodes.size else 0
+    if count == 0:
+        return np.arange(nodes.size)
+    coupling = pattern.tocoo()
+    rows, columns = nodes[coupling.row], nodes[coupling.col]
+    inside = (rows >= 0) & (columns >= 0)
+    graph = scipy.sparse.coo_matrix(
+        (np.ones(np.count_nonzero(inside)), (rows[inside], columns[inside])), shape=(count, count)
+    ).tocsc()
+    graph = abs(graph) + abs(graph.T)
+    # A diagonally dominant matrix on the graph: SuperLU factorizes it without pivoting and
+    # reports the minimum-degree column permutation it used.
+    degree = np.asarray(graph.sum(axis=1)).ravel()
+    symmetric = (scipy.sparse.diags(degree + 1.0) - 0.5 * graph).tocsc()
+    factors = scipy.sparse.linalg.splu(
+        symmetric,
+        permc_spec="MMD_AT_PLUS_A",
+        diag_pivot_thresh=0.0,
+        options={"SymmetricMode": True},
+    )
+    rank = np.empty(count + 1, dtype=np.int64)
+    rank[:count] = factors.perm_c  # node j is eliminated at position perm_c[j]
+    rank[count] = count  # unknowns without a node: last
+    return np.argsort(rank[nodes], kind="stable")
+
+
+_REORDER_FILL = 1.05
+"""The "NODES" ordering is made anew once the factors' nonzeros exceed this multiple of their
+count right after it was made."""
+
+
+def _permuted(matrix: scipy.sparse.spmatrix, order: np.ndarray) -> scipy.sparse.csc_matrix:
+    """P A P^T in CSC form (sorted indices): row and column k of the result are row and column
+    order[k] of A (one gather of A's CSR rows and one transposition)."""
+    rows = scipy.sparse.csr_matrix(matrix)
+    inverse = np.empty_like(order)
+    inverse[order] = np.arange(order.size)
+    lengths = np.diff(rows.indptr)[order]
+    indptr = np.concatenate([[0], np.cumsum(lengths)])
+    gather = np.repeat(rows.indptr[order] - indptr[:-1], lengths) + np.arange(indptr[-1])
+    permuted = scipy.sparse.csr_matrix(
+        (rows.data[gather], inverse[rows.indices[gather]], indptr), shape=rows.shape
+    )
+    return permuted.tocsc()
+
+
+class _Factors(NamedTuple):
+    """LU factors of a Jacobian and the permutation they were made in (None: none)."""
+
+    lu: scipy.sparse.linalg.SuperLU
+    order: np.ndarray | None
+
+    def apply(self, rhs: np.ndarray) -> np.ndarray:
+        """The solution of J x = rhs for the factorized J."""
+        if self.order is None:
+            return self.lu.solve(rhs)
+        solution = np.empty_like(rhs)
+        solution[self.order] = self.lu.solve(rhs[self.order])
+        return solution
+
+
+class LinearSolver:
+    """The Newton systems J du = -R of one problem, solved with SuperLU (module docstring).
+
+    With `NewtonOptions.refinement` = 0 every system is factorized and solved directly. With
+    k > 0 a system is first solved by at most k corrections of iterative refinement with the
+    factors of an earlier Jacobian; if that does not reach `linear_tolerance`, J is factorized
+    and the solve refined with its own factors; if even those fall short (threshold pivoting
+    on an ordering made for an earlier pattern can lose accuracy), J is factorized again in a
+    new ordering with partial pivoting and that solution is taken.
+
+    Args:
+        options: ordering, pivot threshold, refinement and its tolerance.
+        nodes: (n,) node of each unknown for the "NODES" ordering (`NonlinearProblem.nodes`).
+        residual_scale: typical magnitude of each residual entry, for the linear residual's
+            scaled norm.
+
+    Attributes:
+        factorizations: Jacobians factorized so far.
+        reused: systems solved with the factors of an earlier Jacobian.
+    """
+
+    def __init__(
+        self,
+        options: NewtonOptions,
+        nodes: np.ndarray | None = None,
+        residual_scale: float | np.ndarray = 1.0,
+    ):
+        if options.ordering == "NODES" and nodes is None:
+            raise InputError('ordering="NODES" needs a problem with nodes (NonlinearProblem.nodes)')
+        self.options = options
+        self.nodes = nodes
+        self.residual_scale = residual_scale
+        self.factorizations = 0
+        self.reused = 0
+        self._factors: _Factors | None = None
+        self._order: np.ndarray | None = None  # the "NODES" ordering in use
+        self._ordered_fill = 0  # nonzeros of the factors made right after it was made
+
+    def solve(self, jacobian: scipy.sparse.spmatrix, rhs: np.ndarray) -> np.ndarray:
+        """du with J du = rhs. Raises RuntimeError if J is exactly singular (SuperLU)."""
+        options = self.options
+        if not options.refinement:
+            self._factorize(jacobian, options.pivot_threshold)
+            return self._factors.apply(rhs)
+        if self._factors is not None:
+            solution = self._refine(jacobian, rhs)
+            if solution is not None:
+                self.reused += 1
+                return solution
+        self._factorize(jacobian, options.pivot_threshold)
+        solution = self._refine(jacobian, rhs)
+        if solution is None:
+            self._order = None
+            self._factorize(jacobian, 1.0)
+            solution = self._refine(jacobian, rhs, final=True)
+        return solution
+
+    def _factorize(self, jacobian, pivot_threshold: float) -> None:
+        """Factorize J; the "NODES" ordering is kept while the factors it gives stay within
+        `_REORDER_FILL` of their fill when it was made (the couplings of a rod's contacts
+        drift slowly), and made anew from J's pattern otherwise."""
+        self._factors = None
+        ordering = self.options.ordering
+        order = None
+        matrix = jacobian
+        if ordering == "NODES":
+            fresh = self._order is None
+            if fresh:
+                self._order = node_ordering(jacobian, self.nodes)
+            order, ordering = self._order, "NATURAL"
+            matrix = _permuted(jacobian, order)
+        lu = scipy.sparse.linalg.splu(
+            scipy.sparse.csc_matrix(matrix), permc_spec=ordering, diag_pivot_thresh=pivot_threshold
+        )
+        self._factors = _Factors(lu, order)
+        self.factorizations += 1
+        if order is not None:
+            fill = lu.nnz
+            if fresh:
+                self._ordered_fill = fill
+            elif fill > _REORDER_FILL * self._ordered_fill:
+                self._order = None  # order the next Jacobian anew
+
+    def _refine(self, jacobian, rhs: np.ndarray, final: bool = False) -> np.ndarray | None:
+        """Iterative refinement with the current factors, at most `refinement` corrections;
+        None if the linear residual does not reach `linear_tolerance` (given up early when
+        the first solve's contraction cannot make it), unless `final`: then the last
+        solution whatever its residual."""
+        options = self.options
+        scale = self.residual_scale
+        size = _scaled_norm(rhs, scale)
+        solution = self._factors.apply(rhs)
+        if size == 0.0:
+            return solution
+        for correction in range(options.refinement + 1):
+            remainder = rhs - jacobian @ solution
+            ratio = _scaled_norm(remainder, scale) / size
+            if ratio <= options.linear_tolerance:
+                return solution
+            hopeless = not np.isfinite(ratio) or (
+                correction == 0
+                and (
+                    ratio >= 1.0
+                    or np.log(options.linear_tolerance) / np.log(ratio) > options.refinement + 1
+                )
+            )
+            if hopeless and not final:
+                return None
+            if correction < options.refinement and np.isfinite(ratio):
+                solution = solution + self._factors.apply(remainder)
+        return solution if final else None
+
+
 def newton_solve(
     problem: NonlinearProblem,
     state: np.ndarray,
     load_factor: float,
     options: NewtonOptions = NewtonOptions(),
+    *,
+    solver: LinearSolver | None = None,
 ) -> NewtonResult:
-    """Newton iterations on R(u, t) = 0 at fixed t from the initial guess `state`."""
+    """Newton iterations on R(u, t) = 0 at fixed t from the initial guess `state`.
+
+    `solver` carries LU factors from earlier solves (`solve_path` passes one along the path);
+    None starts a new one.
+    """
+    if solver is None:
+        solver = LinearSolver(options, problem.nodes, problem.residual_scale)
     state = np.array(state, dtype=float)
     residual, jacobian = problem.evaluate(state, load_factor)
     residual_norms = [_scaled_norm(residual, problem.residual_scale)]
@@ -207,10 +450,7 @@ def newton_solve(
             reason = "not finite"
             break
         try:
-            factors = scipy.sparse.linalg.splu(
-                scipy.sparse.csc_matrix(jacobian), permc_spec=options.ordering
-            )
-            increment = factors.solve(-residual)
+            increment = solver.solve(jacobian, -residual)
         except RuntimeError:  # SuperLU: "Factor is exactly singular"
             reason = "singular"
             break
@@ -218,7 +458,10 @@ def newton_solve(
         trial = state + increment
         residual, jacobian = problem.evaluate(trial, load_factor)
         for _ in range(options.line_search):
-            if _mean_square(residual, problem.residual_scale) < merit:
+            if (
+                _scaled_norm(residual, problem.residual_scale) <= options.residual_tolerance
+                or _mean_square(residual, problem.residual_scale) < merit
+            ):
                 break
             increment = 0.5 * increment
             trial = state + increment
@@ -277,7 +520,8 @@ def solve_path(
     `initial_state` must be an equilibrium at t = `start` (e.g. the unloaded reference state);
     it is recorded as the first step. Between requested load factors the increment adapts
     (`rve_rod.stepping.StepController`: cutback on failure or on a converged state
-    `problem.admissible` refuses, growth after easy steps).
+    `problem.admissible` refuses, growth after easy steps). One `LinearSolver` serves the
+    whole path, so that LU factors can be reused across steps (`NewtonOptions.refinement`).
 
     Raises:
         ConvergenceError: when the increment would fall below `min_increment` or more than
@@ -285,6 +529,7 @@ def solve_path(
             last accepted StepRecord (possibly a substep) and `history` the PathResult up to there.
     """
     controller = StepController(load_factors, stepping, start)
+    solver = LinearSolver(newton, problem.nodes, problem.residual_scale)
     state = np.array(initial_state, dtype=float)
     result = PathResult(steps=[StepRecord(float(start), state.copy(), 0, ())])
     previous_state = None  # the accepted state before the current one
@@ -295,7 +540,7 @@ def solve_path(
         guess = state
         if stepping.extrapolate and previous_state is not None:
             guess = state + (trial - t) / (t - controller.previous) * (state - previous_state)
-        attempt = newton_solve(problem, guess, trial, newton)
+        attempt = newton_solve(problem, guess, trial, newton, solver=solver)
         result.newton_iterations += attempt.iterations
         reason = attempt.reason
         if attempt.converged and problem.admissible is not None:

@@ -168,6 +168,8 @@ def project_on_groups(spans, groups, targets, tolerance, out):
     coefficients, group_spans = spans.coefficients, spans.group_spans
     local = np.empty((3, 3))
     n_slope = 2 * coefficients.shape[1] - 2  # coefficients of g, degree 2p - 1
+    bernstein = np.empty((coefficients.shape[2], 4, n_slope))
+    _slope_bernstein(coefficients, bernstein)
     pieces = np.empty((3, _MAX_PIECES))
     stack = np.empty((_MAX_PIECES, 2 + n_slope))
     capacity = out.values.shape[1]
@@ -182,6 +184,12 @@ def project_on_groups(spans, groups, targets, tolerance, out):
                 slope_high = _start_slope(coefficients, following, target)
             else:
                 slope_high = _end_slope(coefficients, s, target)
+            for k in range(n_slope):
+                stack[0, 2 + k] = bernstein[s, 0, k] - (
+                    target[0] * bernstein[s, 1, k]
+                    + target[1] * bernstein[s, 2, k]
+                    + target[2] * bernstein[s, 3, k]
+                )
             n_pieces = _slope_pieces(coefficients, s, target, slope_low, (stack, pieces))
             for q in range(n_pieces):
                 low, high = pieces[0, q], pieces[1, q]
@@ -222,24 +230,30 @@ prominence of order (width)^3 of the distance scale, i.e. none."""
 
 
 @njit(cache=True)
-def _slope_bernstein(coefficients, span, target, out):
-    """Bernstein coefficients on [0, 1] of the span's slope g = C'.(C - x) into out (2p,)."""
+def _slope_bernstein(coefficients, out):
+    """Bernstein coefficients on [0, 1] of degree 2p - 1 of every span's C'.C and of the
+    components of C', into out (S, 4, 2p): the slope g = C'.(C - x) of the squared distance
+    from a target x has the coefficients out[s, 0] - sum_c x_c out[s, 1 + c]."""
     p = coefficients.shape[1] - 1
-    n = out.size - 1
-    power = np.zeros(n + 1)
-    for c in range(3):
-        for i in range(p + 1):
-            offset = coefficients[c, i, span] - (target[c] if i == 0 else 0.0)
+    n = out.shape[2] - 1
+    power = np.empty((4, n + 1))
+    for span in range(coefficients.shape[2]):
+        power[:, :] = 0.0
+        for c in range(3):
+            for i in range(p + 1):
+                for j in range(1, p + 1):
+                    power[0, i + j - 1] += coefficients[c, i, span] * j * coefficients[c, j, span]
             for j in range(1, p + 1):
-                power[i + j - 1] += offset * j * coefficients[c, j, span]
-    for k in range(n + 1):
-        value = 0.0
-        ratio = 1.0  # binom(k, i) / binom(n, i)
-        for i in range(k):
-            value += ratio * power[i]
-            ratio *= (k - i) / (n - i)
-        value += ratio * power[k]
-        out[k] = value
+                power[1 + c, j - 1] = j * coefficients[c, j, span]
+        for row in range(4):
+            for k in range(n + 1):
+                value = 0.0
+                ratio = 1.0  # binom(k, i) / binom(n, i)
+                for i in range(k):
+                    value += ratio * power[row, i]
+                    ratio *= (k - i) / (n - i)
+                value += ratio * power[row, k]
+                out[span, row, k] = value
 
 
 @njit(cache=True)
@@ -280,7 +294,8 @@ def _slope_pieces(coefficients, span, target, slope_low, buffers):
     a piece end (where its sign would decide for both neighbours).
 
     slope_low is the slope at the span's start as the caller has it (its knot convention);
-    buffers = (stack, pieces): the subdivision stack (_MAX_PIECES, 2p + 2) and the output
+    buffers = (stack, pieces): the subdivision stack (_MAX_PIECES, 2p + 2), whose first row
+    holds the span's Bernstein coefficients after its first two entries, and the output
     (3, _MAX_PIECES). Writes the pieces left to right into pieces: start, end and the slope
     at the start (slope_low for the first piece, else the slope evaluated as
     `_safeguarded_newton` evaluates it, so that both agree on the bracket), and returns their
@@ -290,7 +305,6 @@ def _slope_pieces(coefficients, span, target, slope_low, buffers):
     stack, pieces = buffers
     n = stack.shape[1] - 3
     coefficient = stack[0, 2:]
-    _slope_bernstein(coefficients, span, target, coefficient)
     if _sign_changes(coefficient) <= 1:
         pieces[0, 0], pieces[1, 0], pieces[2, 0] = 0.0, 1.0, slope_low
         return 1
@@ -594,3 +608,331 @@ def _friction(c, contact, slip_vector, friction, out):
                 value += factor[i, a] * g_tangent[a]
             out.blocks[2, i, j, c] -= value * v[j] / h
     out.state[c] = 2 if sliding else 1
+
+
+class StrandArcs(NamedTuple):
+    """The master strands by unwrapped reference arc coordinate, as `separating_maxima` takes
+    them (`rve_rod.contact.regions.StrandGeometry` builds it).
+
+    Attributes:
+        coefficients: (3, p+1, S) power-basis coefficients of the spans (mm).
+        span_yarn: (S,) int64 yarn of each span.
+        span_arc_start, span_arc_length: (S,) reference arc interval of each span (mm).
+        keys: (S,) sorted search keys yarn_offset[yarn] + arc start of the spans.
+        order: (S,) int64 the spans in key order.
+        yarn_offset: (Y,) key offset of each yarn (mm).
+        yarn_length: (Y,) reference length of each yarn (mm).
+        yarn_period: (Y, 2) int64 lattice period of each yarn ((0, 0) for an open yarn).
+        yarn_first_span: (Y,) int64 the first span of each yarn along its arc.
+        image_vectors: (2, 3) the deformed lattice vectors F a1, F a2 (zeros without a lattice).
+    """
+
+    coefficients: np.ndarray
+    span_yarn: np.ndarray
+    span_arc_start: np.ndarray
+    span_arc_length: np.ndarray
+    keys: np.ndarray
+    order: np.ndarray
+    yarn_offset: np.ndarray
+    yarn_length: np.ndarray
+    yarn_period: np.ndarray
+    yarn_first_span: np.ndarray
+    image_vectors: np.ndarray
+
+
+class StrandPairs(NamedTuple):
+    """Neighbouring distance minima of one slave point on one strand (arrays over k pairs).
+
+    Attributes:
+        slave_points: (3, k) the slave point of each pair (mm).
+        yarn: (k,) int64 yarn of the strand.
+        image: (k, 2) int64 lattice image of the left minimum.
+        start, stop: (k,) unwrapped reference arc coordinates of the left and right minimum.
+    """
+
+    slave_points: np.ndarray
+    yarn: np.ndarray
+    image: np.ndarray
+    start: np.ndarray
+    stop: np.ndarray
+
+
+class StrandLocations(NamedTuple):
+    """Preallocated outputs of `separating_maxima` for k pairs: the maxima's span (k,) int64,
+    tau (k,), image (k, 2) int64, arc (k,) (mm), distance (k,) (mm) and normal (3, k)."""
+
+    span: np.ndarray
+    tau: np.ndarray
+    image: np.ndarray
+    arc: np.ndarray
+    distance: np.ndarray
+    normal: np.ndarray
+
+
+@njit(cache=True)
+def _locate(strands, yarn, reference, arc, image):
+    """Span and tau of the point at unwrapped arc coordinate `arc` on the strand through
+    the yarn's point reference = (image (2,), arc); writes the point's image into image (2,)."""
+    reference_image, reference_arc = reference
+    length = strands.yarn_length[yarn]
+    period = strands.yarn_period[yarn]
+    turns = 0.0
+    reference_turns = 0.0
+    if period[0] != 0 or period[1] != 0:
+        turns = np.floor(arc / length)
+        reference_turns = np.floor(reference_arc / length)
+    local = min(max(arc - turns * length, 0.0), length)
+    last = strands.keys.size - 1
+    position = np.searchsorted(strands.keys, strands.yarn_offset[yarn] + local, side="right") - 1
+    span = strands.order[min(max(position, 0), last)]
+    if strands.span_yarn[span] != yarn:
+        span = strands.yarn_first_span[yarn]
+    tau = (local - strands.span_arc_start[span]) / strands.span_arc_length[span]
+    tau = min(max(tau, 0.0), 1.0)
+    shift = int(turns - reference_turns)
+    image[0] = reference_image[0] + shift * period[0]
+    image[1] = reference_image[1] + shift * period[1]
+    return span, tau
+
+
+@njit(cache=True)
+def _strand_point(strands, span, tau, image, out):
+    """C, dC/dtau and d2C/dtau2 of the span at tau (out (3, 3)), C translated to the image."""
+    _span_geometry(strands.coefficients, span, tau, out)
+    vectors = strands.image_vectors
+    for c in range(3):
+        out[0, c] += image[0] * vectors[0, c] + image[1] * vectors[1, c]
+
+
+@njit(cache=True)
+def separating_maxima(strands, pairs, samples, max_iterations, out):
+    """The largest distance maximum between the two minima of each pair, along the strand.
+
+    The squared distance from the slave point is sampled at `samples` interior arc
+    coordinates evenly between the minima; the largest sample's neighbours bracket the
+    maximum, found by Newton on the slope of |x_m - x_s|^2 / 2 in the arc coordinate with
+    bisection whenever a step would leave the bracket, until a step is below 1e-12 (1 +
+    |start|) mm or after `max_iterations` (`rve_rod.contact.regions`).
+
+    Args:
+        strands: `StrandArcs`.
+        pairs: `StrandPairs`.
+        samples: interior samples of the distance.
+        max_iterations: bound on the Newton iterations.
+        out: `StrandLocations` buffers.
+    """
+    local = np.empty((3, 3))
+    image = np.empty(2, dtype=np.int64)
+    for c in range(pairs.start.size):
+        yarn = pairs.yarn[c]
+        reference = pairs.image[c]
+        start = pairs.start[c]
+        width = pairs.stop[c] - start
+        target = pairs.slave_points[:, c]
+        best = 1
+        largest = -1.0
+        for k in range(1, samples + 1):
+            arc = start + (k / (samples + 1)) * width
+            span, tau = _locate(strands, yarn, (reference, start), arc, image)
+            _strand_point(strands, span, tau, image, local)
+            value = 0.0
+            for i in range(3):
+                value += (local[0, i] - target[i]) ** 2
+            if value > largest:
+                largest, best = value, k
+        low = start + ((best - 1) / (samples + 1)) * width
+        high = start + ((best + 1) / (samples + 1)) * width
+        arc = start + (best / (samples + 1)) * width
+        tolerance = 1e-12 * (1.0 + abs(start))
+        for _ in range(max_iterations):
+            span, tau = _locate(strands, yarn, (reference, start), arc, image)
+            _strand_point(strands, span, tau, image, local)
+            scale = 1.0 / strands.span_arc_length[span]
+            slope = 0.0
+            curvature = 0.0
+            for i in range(3):
+                offset = local[0, i] - target[i]
+                slope += offset * local[1, i]
+                curvature += local[1, i] * local[1, i] + offset * local[2, i]
+            slope *= scale
+            curvature *= scale * scale
+            if slope >= 0.0:
+                low = arc
+            else:
+                high = arc
+            step = arc - slope / curvature if curvature < 0.0 else np.nan
+            if not (low < step < high):
+                step = 0.5 * (low + high)
+            done = abs(step - arc) <= tolerance
+            arc = step
+            if done:
+                break
+        span, tau = _locate(strands, yarn, (reference, start), arc, image)
+        _strand_point(strands, span, tau, image, local)
+        distance = 0.0
+        for i in range(3):
+            distance += (target[i] - local[0, i]) ** 2
+        distance = np.sqrt(distance)
+        out.span[c] = span
+        out.tau[c] = tau
+        out.image[c, 0] = image[0]
+        out.image[c, 1] = image[1]
+        out.arc[c] = arc
+        out.distance[c] = distance
+        for i in range(3):
+            out.normal[i, c] = (target[i] - local[0, i]) / distance
+
+
+@njit(cache=True)
+def prominences(minima, maxima, touch, p, derivative):
+    """Prominences of the minima of one region and their derivatives
+    (`rve_rod.contact.regions.prominences` states the formula).
+
+    Args:
+        minima: (n,) capped distances of the minima in arc order (mm).
+        maxima: (n-1,) capped distances of the maxima between neighbours (mm).
+        touch: 2r (mm).
+        p: (n,) output prominences.
+        derivative: (n, 2n-1) output dp/dh, columns the minima, then the maxima.
+    """
+    n = minima.size
+    row = np.empty(2 * n - 1)
+    lower = np.full(n, np.inf)
+    lower_gap = np.full(n, -1)
+    derivative[:, :] = 0.0
+    for i in range(n):
+        p[i] = touch - minima[i]
+        derivative[i, i] = -1.0
+    for gap in range(n - 1):
+        value = maxima[gap]
+        for j in (gap, gap + 1):
+            if value < lower[j]:
+                lower[j], lower_gap[j] = value, gap
+    for i in range(n):
+        for j in range(n):
+            if j == i:
+                continue
+            barrier_gap = min(i, j)  # the first highest maximum between i and j
+            for g in range(min(i, j), max(i, j)):
+                if maxima[g] > maxima[barrier_gap]:
+                    barrier_gap = g
+            barrier = maxima[barrier_gap]
+            rise = minima[j] - minima[i]
+            depth = lower[j] - minima[j]
+            row[:] = 0.0
+            row[i] = -1.0
+            row[n + barrier_gap] = 1.0
+            step = 0.0
+            if rise > 0.0 and depth <= rise:
+                step = 1.0
+            elif rise > 0.0:
+                x = rise / depth
+                step = x * x * (3.0 - 2.0 * x)
+                slope = 6.0 * x * (1.0 - x) * (touch - barrier)
+                row[i] -= slope / depth
+                row[j] += slope * (lower[j] - minima[i]) / depth**2
+                row[n + lower_gap[j]] -= slope * rise / depth**2
+            value = barrier - minima[i] + (touch - barrier) * step
+            row[n + barrier_gap] -= step
+            if value < p[i]:
+                p[i] = value
+                derivative[i, :] = row
+    for i in range(n):
+        if p[i] < 0.0:
+            p[i] = 0.0
+            derivative[i, :] = 0.0
+
+
+class Regions(NamedTuple):
+    """The regions of more than one minimum, as `region_weights` takes them.
+
+    Attributes:
+        members: (k,) int64 the minima in region order (arc order within a region).
+        gaps: (k,) int64 the maximum after each member (into the maxima; -1 after a region's
+            last member).
+        bounds: (2, R) int64 first member and size of each region.
+    """
+
+    members: np.ndarray
+    gaps: np.ndarray
+    bounds: np.ndarray
+
+
+class RegionTerms(NamedTuple):
+    """Preallocated outputs of `region_weights`: the weight derivative terms dw_contact +=
+    coefficient dh_q, q a stationary point (capacity terms).
+
+    Attributes:
+        contact: (capacity,) int64 the weighted minimum.
+        kind: (capacity,) int64 0 where q is a minimum, 1 where it is a maximum.
+        index: (capacity,) int64 q's index among the minima or the maxima.
+        coefficient: (capacity,) dw / dh_q (1/mm).
+    """
+
+    contact: np.ndarray
+    kind: np.ndarray
+    index: np.ndarray
+    coefficient: np.ndarray
+
+
+@njit(cache=True)
+def region_weights(distances, regions, touch, weight, out):
+    """Weights of the minima of regions of more than one minimum, and their derivative terms
+    (`rve_rod.contact.regions.region_weights`): w_i = p_i^2 / sum_j p_j^2, or 1/n where no
+    minimum of the region penetrates, and the terms dw_i/dh_q of every stationary point q of
+    the region whose distance is below 2r (h = min(d, 2r) changes only there), nonzero ones.
+
+    Args:
+        distances: (minimum, maximum): (k,) distances of all minima and (g,) of the maxima
+            between linked neighbours (inf where none was searched) (mm).
+        regions: `Regions`.
+        touch: 2r (mm).
+        weight: (k,) output, written for the members only.
+        out: `RegionTerms` buffers, capacity sum of n (2n - 1) over the regions.
+
+    Returns the number of terms written.
+    """
+    minimum, maximum = distances
+    members, gaps, bounds = regions
+    count = 0
+    for r in range(bounds.shape[1]):
+        first, n = bounds[0, r], bounds[1, r]
+        capped_minimum = np.empty(n)
+        capped_maximum = np.empty(n - 1)
+        for a in range(n):
+            capped_minimum[a] = min(minimum[members[first + a]], touch)
+        for a in range(n - 1):
+            capped_maximum[a] = min(maximum[gaps[first + a]], touch)
+        p = np.empty(n)
+        derivative = np.empty((n, 2 * n - 1))
+        prominences(capped_minimum, capped_maximum, touch, p, derivative)
+        total = 0.0
+        for a in range(n):
+            total += p[a] ** 2
+        if total <= 0.0:
+            for a in range(n):
+                weight[members[first + a]] = 1.0 / n
+            continue
+        for i in range(n):
+            weight[members[first + i]] = p[i] ** 2 / total
+        for i in range(n):
+            # dw_i/dp_j = (delta_ij - w_i) 2 p_j / total, chained to the capped distances
+            share = p[i] ** 2 / total
+            for q in range(2 * n - 1):
+                value = 0.0
+                for j in range(n):
+                    dw_dp = ((1.0 if i == j else 0.0) - share) * (2.0 * p[j] / total)
+                    value += dw_dp * derivative[j, q]
+                if q < n:
+                    kind, index = 0, members[first + q]
+                    distance = minimum[index]
+                else:
+                    kind, index = 1, gaps[first + q - n]
+                    distance = maximum[index]
+                if distance < touch and value != 0.0:
+                    out.contact[count] = members[first + i]
+                    out.kind[count] = kind
+                    out.index[count] = index
+                    out.coefficient[count] = value
+                    count += 1
+    return count

@@ -359,7 +359,9 @@ def _patch_spans(patch: Patch, cp_offset: int) -> dict:
 
 
 def _collocation_weights(patches, cp_offset, span_first, span_basis, speed):
-    """Weights w = (B^+)^T int N ds per patch, B the basis matrix at the collocation points.
+    """Weights w = (B^+)^T int N ds per patch, B the basis matrix at the collocation points
+    (the minimum-norm least-squares solution of B^T w = int N ds; B is square and regular at the
+    Greville points).
 
     speed: (S, q) |dC/dtau| at the Gauss points of every span (reference configuration).
     """
@@ -373,5 +375,9 @@ def _collocation_weights(patches, cp_offset, span_first, span_basis, speed):
     result = []
     for k, patch in enumerate(patches):
         matrix = basis_matrix(patch.knots, degree, patch.collocation_parameters).toarray()
-        result.append(np.linalg.pinv(matrix).T @ integrals[cp_offset[k] : cp_offset[k + 1]])
+        integral = integrals[cp_offset[k] : cp_offset[k + 1]]
+        if matrix.shape[0] == matrix.shape[1]:  # collocation at as many points as controls
+            result.append(np.linalg.solve(matrix.T, integral))
+        else:
+            result.append(np.linalg.lstsq(matrix.T, integral, rcond=None)[0])
     return np.concatenate(result)

@@ -539,7 +539,7 @@ class ContactModel:
     def _region_weights(self, points, slave_points, deformation, detected) -> RegionWeights:
         """Region weights of the detected minima (`rve_rod.contact.regions`)."""
         geometry = StrandGeometry(
-            self.layout, points, lambda images: self._shifts(images) @ deformation.T
+            self.layout, points, self._shifts(np.eye(2, dtype=np.int64)) @ deformation.T
         )
         minima = StrandPoints(
             slave=detected.slave,

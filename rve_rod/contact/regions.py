@@ -27,10 +27,12 @@ stationary point on the master (with its image translation F L_q). So dw_i = sum
 where c_iq = dw_i/dd_q (`WeightTerms`), over the minima and maxima of i's region.
 """
 
+import functools
 from typing import NamedTuple
 
 import numpy as np
 
+from rve_rod.contact import _kernels
 from rve_rod.contact.layout import ContactLayout
 
 __all__ = [
@@ -115,56 +117,47 @@ class RegionWeights(NamedTuple):
 
 
 class StrandGeometry:
-    """Evaluation of the master strands by unwrapped reference arc coordinate.
+    """The master strands by unwrapped reference arc coordinate, as the kernels take them.
 
     Args:
         layout: the contact layout.
         points: (n, 3) control points (mm).
-        translations: callable mapping images (k, 2) to their translations F L, (k, 3) (mm).
+        image_vectors: (2, 3) the deformed lattice vectors F a1, F a2 (mm): image (i, j) is
+            translated by i F a1 + j F a2 (zeros without a lattice).
+
+    Attributes:
+        layout: as given.
+        arcs: the `_kernels.StrandArcs` record.
     """
 
-    def __init__(self, layout: ContactLayout, points: np.ndarray, translations):
+    def __init__(self, layout: ContactLayout, points: np.ndarray, image_vectors: np.ndarray):
         self.layout = layout
-        self.span_points = layout.span_points(points)
-        self.translations = translations
-        length = layout.yarn_length
-        self._yarn_offset = np.concatenate([[0.0], np.cumsum(length + 1.0)[:-1]])
-        keys = self._yarn_offset[layout.span_yarn] + layout.span_arc_start
-        self._order = np.argsort(keys, kind="stable")
-        self._keys = keys[self._order]
+        self._points = points
+        self._image_vectors = image_vectors
 
-    def locate(self, yarn, reference_image, reference_arc, arc):
-        """Span, tau and image (k, 2) of the points at unwrapped arc coordinates `arc` on the
-        strands through the reference points (yarn, image, arc), all (k,)."""
+    @functools.cached_property
+    def arcs(self) -> _kernels.StrandArcs:
+        """The kernels' record (made on first use: most evaluations need no maximum)."""
         layout = self.layout
-        length = layout.yarn_length[yarn]
-        period = layout.yarn_period[yarn]
-        periodic = np.any(period != 0, axis=1)
-        turns = np.where(periodic, np.floor(arc / length), 0.0)
-        reference_turns = np.where(periodic, np.floor(reference_arc / length), 0.0)
-        local = np.clip(arc - turns * length, 0.0, length)
-        position = np.searchsorted(self._keys, self._yarn_offset[yarn] + local, side="right") - 1
-        span = self._order[np.clip(position, 0, self._keys.size - 1)]
-        span = np.where(layout.span_yarn[span] == yarn, span, self._first_span(yarn))
-        tau = np.clip(
-            (local - layout.span_arc_start[span]) / layout.span_arc_length[span], 0.0, 1.0
+        length = layout.yarn_length
+        yarn_offset = np.concatenate([[0.0], np.cumsum(length + 1.0)[:-1]])
+        keys = yarn_offset[layout.span_yarn] + layout.span_arc_start
+        order = np.argsort(keys, kind="stable")
+        keys = keys[order]
+        first = np.searchsorted(keys, yarn_offset, side="left")
+        return _kernels.StrandArcs(
+            coefficients=np.ascontiguousarray(layout.coefficients(self._points)),
+            span_yarn=layout.span_yarn,
+            span_arc_start=layout.span_arc_start,
+            span_arc_length=layout.span_arc_length,
+            keys=keys,
+            order=order.astype(np.int64),
+            yarn_offset=yarn_offset,
+            yarn_length=length,
+            yarn_period=layout.yarn_period,
+            yarn_first_span=order[np.clip(first, 0, keys.size - 1)].astype(np.int64),
+            image_vectors=np.ascontiguousarray(self._image_vectors, dtype=float),
         )
-        image = reference_image + (turns - reference_turns).astype(np.int64)[:, None] * period
-        return span, tau, image
-
-    def _first_span(self, yarn):
-        starts = np.searchsorted(self._keys, self._yarn_offset[yarn], side="left")
-        return self._order[np.clip(starts, 0, self._keys.size - 1)]
-
-    def evaluate(self, span, tau, image, values_only=False):
-        """Point, d/dtau and d2/dtau2 of the master curve, each (3, k), images translated
-        (the point alone if values_only)."""
-        values = [
-            np.einsum("ka,kac->ck", self.layout.basis(span, tau, order), self.span_points[span])
-            for order in range(1 if values_only else 3)
-        ]
-        values[0] = values[0] + self.translations(image).T
-        return values[0] if values_only else values
 
 
 def separating_maxima(
@@ -177,58 +170,35 @@ def separating_maxima(
 
     The distance from the slave point is sampled at `_SAMPLES` interior arc coordinates; the
     largest sample's neighbours bracket a maximum, found by safeguarded Newton on the slope of
-    |x_m - x_s|^2 / 2 in the arc coordinate (bisection whenever a step would leave the bracket).
+    |x_m - x_s|^2 / 2 in the arc coordinate (bisection whenever a step would leave the bracket;
+    `_kernels.separating_maxima`).
     """
-    layout = geometry.layout
-    yarn = layout.span_yarn[left.span]
-    start, stop = left.arc, right.arc
-    x_s = slave_points[:, left.slave]
-
-    fractions = np.arange(_SAMPLES + 2) / (_SAMPLES + 1)
-    samples = start[None, :] + fractions[:, None] * (stop - start)[None, :]  # (S + 2, k)
-    k = start.size
-    repeat = np.tile(np.arange(k), _SAMPLES)
-    span, tau, image = geometry.locate(
-        yarn[repeat], left.image[repeat], start[repeat], samples[1:-1].ravel()
+    k = left.slave.size
+    pairs = _kernels.StrandPairs(
+        slave_points=np.ascontiguousarray(slave_points[:, left.slave]),
+        yarn=geometry.layout.span_yarn[left.span],
+        image=np.ascontiguousarray(left.image, dtype=np.int64),
+        start=np.ascontiguousarray(left.arc, dtype=float),
+        stop=np.ascontiguousarray(right.arc, dtype=float),
     )
-    point = geometry.evaluate(span, tau, image, values_only=True)
-    values = np.sum((point - x_s[:, repeat]) ** 2, axis=0).reshape(_SAMPLES, k)
-    best = 1 + np.argmax(values, axis=0)
-    columns = np.arange(start.size)
-    low = samples[best - 1, columns]
-    high = samples[best + 1, columns]
-    arc = samples[best, columns]
-    tolerance = 1e-12 * (1.0 + np.abs(start))
-    for _ in range(_MAX_ITERATIONS):
-        span, tau, image = geometry.locate(yarn, left.image, start, arc)
-        point, first, second = geometry.evaluate(span, tau, image)
-        scale = 1.0 / layout.span_arc_length[span]
-        offset = point - x_s
-        slope = np.sum(offset * first, axis=0) * scale
-        curvature = (np.sum(first * first, axis=0) + np.sum(offset * second, axis=0)) * scale**2
-        low = np.where(slope >= 0.0, arc, low)
-        high = np.where(slope >= 0.0, high, arc)
-        safe_curvature = np.where(curvature < 0.0, curvature, -1.0)
-        step = np.where(curvature < 0.0, arc - slope / safe_curvature, np.nan)
-        inside = (step > low) & (step < high)
-        step = np.where(inside, step, 0.5 * (low + high))
-        done = np.abs(step - arc) <= tolerance
-        arc = step
-        if np.all(done):
-            break
-    span, tau, image = geometry.locate(yarn, left.image, start, arc)
-    point = geometry.evaluate(span, tau, image, values_only=True)
-    gap = x_s - point
-    distance = np.linalg.norm(gap, axis=0)
+    out = _kernels.StrandLocations(
+        span=np.empty(k, dtype=np.int64),
+        tau=np.empty(k),
+        image=np.empty((k, 2), dtype=np.int64),
+        arc=np.empty(k),
+        distance=np.empty(k),
+        normal=np.empty((3, k)),
+    )
+    _kernels.separating_maxima(geometry.arcs, pairs, _SAMPLES, _MAX_ITERATIONS, out)
     return StrandPoints(
         slave=left.slave,
-        span=span,
-        tau=tau,
-        image=image,
-        arc=arc,
+        span=out.span,
+        tau=out.tau,
+        image=out.image,
+        arc=out.arc,
         strand=left.strand,
-        distance=distance,
-        normal=gap / distance,
+        distance=out.distance,
+        normal=out.normal,
     )
 
 
@@ -284,52 +254,40 @@ def region_weights(
         for field, values in zip(maxima[:-1], found[:-1], strict=True):
             field[needed] = values
         maxima.normal[:, needed] = found.normal
-    capped_minimum = np.minimum(minima.distance, touch)
-    capped_maximum = np.minimum(maxima.distance, touch)
     region = np.concatenate([[0], np.cumsum(~linked)])  # region of each sorted position
     size = np.bincount(region)
     starts = np.concatenate([[0], np.cumsum(size)[:-1]])
-    gap_pair = np.full(max(k - 1, 0), -1)
+    gap_pair = np.full(k, -1)
     gap_pair[pairs] = np.arange(pairs.size)
-    weight_terms = []  # (weighted minimum, stationary points, their indices, dw/dh)
-    shared = 0
-    for first, count in zip(starts[size > 1], size[size > 1], strict=True):
-        shared += int(count)
-        members = order[first : first + count]
-        gaps = gap_pair[first : first + count - 1]
-        prominence, derivative = prominences(capped_minimum[members], capped_maximum[gaps], touch)
-        power = prominence**2
-        total = power.sum()
-        if total <= 0.0:
-            weight[members] = 1.0 / count
-            continue
-        weight[members] = power / total
-        # dw_i/dp_j = (delta_ij - w_i) 2 p_j / total; chained to the capped distances.
-        dw_dp = (np.eye(count) - (power / total)[:, None]) * (2.0 * prominence / total)[None, :]
-        dw_dh = dw_dp @ derivative  # (count, 2 count - 1): minima, then maxima
-        for i in range(count):
-            weight_terms.append((members[i], minima, members, dw_dh[i, :count]))
-            weight_terms.append((members[i], maxima, gaps, dw_dh[i, count:]))
-    # h(d) = min(d, 2r) changes only where the stationary point penetrates.
-    terms = []
-    for contact, points, index, coefficient in weight_terms:
-        moving = (points.distance[index] < touch) & (coefficient != 0.0)
-        terms.append(
-            (np.full(np.count_nonzero(moving), contact), points, index[moving], coefficient[moving])
-        )
-    if not terms:
-        return RegionWeights(weight, WeightTerms.empty(), shared)
+    shared = size > 1
+    regions = np.stack([starts[shared], size[shared]]).astype(np.int64)
+    capacity = int(np.sum(size[shared] * (2 * size[shared] - 1)))
+    out = _kernels.RegionTerms(
+        contact=np.empty(capacity, dtype=np.int64),
+        kind=np.empty(capacity, dtype=np.int64),
+        index=np.empty(capacity, dtype=np.int64),
+        coefficient=np.empty(capacity),
+    )
+    count = _kernels.region_weights(
+        (minima.distance, maxima.distance),
+        _kernels.Regions(order, gap_pair, regions),
+        touch,
+        weight,
+        out,
+    )
+    contact, kind, index, coefficient = (field[:count] for field in out)
+    stationary = np.where(kind == 1, k + index, index)  # into the minima, then the maxima
     return RegionWeights(
         weight=weight,
         terms=WeightTerms(
-            contact=np.concatenate([contact for contact, _, _, _ in terms]),
-            span=np.concatenate([points.span[index] for _, points, index, _ in terms]),
-            tau=np.concatenate([points.tau[index] for _, points, index, _ in terms]),
-            image=np.concatenate([points.image[index] for _, points, index, _ in terms]),
-            normal=np.concatenate([points.normal[:, index] for _, points, index, _ in terms], 1),
-            coefficient=np.concatenate([value for _, _, _, value in terms]),
+            contact=contact,
+            span=np.concatenate([minima.span, maxima.span])[stationary],
+            tau=np.concatenate([minima.tau, maxima.tau])[stationary],
+            image=np.concatenate([minima.image, maxima.image])[stationary],
+            normal=np.concatenate([minima.normal, maxima.normal], axis=1)[:, stationary],
+            coefficient=coefficient,
         ),
-        shared=shared,
+        shared=int(size[shared].sum()),
     )
 
 
@@ -356,42 +314,13 @@ def prominences(minima: np.ndarray, maxima: np.ndarray, touch: float):
     p_j <= q_j -> 0). Kinks remain where two caps of a minimum cross (three or more minima).
     """
     n = minima.size
-    p = touch - minima
-    derivative = np.zeros((n, 2 * n - 1))
-    derivative[np.arange(n), np.arange(n)] = -1.0
-    lower = np.full(n, np.inf)
-    lower_gap = np.full(n, -1)
-    for gap, value in enumerate(maxima):
-        for j in (gap, gap + 1):
-            if value < lower[j]:
-                lower[j], lower_gap[j] = value, gap
-    for i in range(n):
-        for j in range(n):
-            if j == i:
-                continue
-            barrier_gap = max(range(min(i, j), max(i, j)), key=lambda g: maxima[g])
-            barrier = maxima[barrier_gap]
-            rise = minima[j] - minima[i]
-            depth = lower[j] - minima[j]  # q_j
-            row = np.zeros(2 * n - 1)
-            row[i] = -1.0
-            row[n + barrier_gap] = 1.0
-            step = 0.0
-            if rise > 0.0 and depth <= rise:
-                step = 1.0
-            elif rise > 0.0:
-                x = rise / depth
-                step = x * x * (3.0 - 2.0 * x)
-                slope = 6.0 * x * (1.0 - x) * (touch - barrier)  # d/dx of (2r - B) S
-                row[i] -= slope / depth
-                row[j] += slope * (lower[j] - minima[i]) / depth**2
-                row[n + lower_gap[j]] -= slope * rise / depth**2
-            value = barrier - minima[i] + (touch - barrier) * step
-            row[n + barrier_gap] -= step
-            if value < p[i]:
-                p[i] = value
-                derivative[i] = row
-    negative = p < 0.0
-    p[negative] = 0.0
-    derivative[negative] = 0.0
+    p = np.empty(n)
+    derivative = np.empty((n, 2 * n - 1))
+    _kernels.prominences(
+        np.ascontiguousarray(minima, dtype=float),
+        np.ascontiguousarray(maxima, dtype=float),
+        float(touch),
+        p,
+        derivative,
+    )
     return p, derivative

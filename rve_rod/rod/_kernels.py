@@ -357,3 +357,31 @@ def scatter_jacobian(d_local, basis, index, data):
                         + d_local[r, 10 + c, j] * b1
                         + d_local[r, 14 + c, j] * b2
                     )
+
+
+@njit(cache=True)
+def rotation_minimizing_normals(points, tangents, out):
+    """Normals d1 of the rotation-minimizing frame along a sampled curve by double reflection
+    (Wang, Juttler, Zheng & Liu, ACM TOG 27(1), 2008), after the first (given).
+
+    Args:
+        points: (m, 3) curve points (mm), in order.
+        tangents: (m, 3) unit tangents at the points.
+        out: (m, 3) normals; out[0] holds d1 at the first point (orthogonal to tangents[0]),
+            the others are written.
+    """
+    for i in range(points.shape[0] - 1):
+        chord = points[i + 1] - points[i]
+        normal = out[i].copy()
+        tangent = tangents[i].copy()
+        c1 = chord @ chord
+        if c1 > 0.0:
+            normal -= (2.0 / c1) * (chord @ normal) * chord
+            tangent -= (2.0 / c1) * (chord @ tangent) * chord
+        v2 = tangents[i + 1] - tangent
+        c2 = v2 @ v2
+        if c2 > 0:
+            normal -= (2.0 / c2) * (v2 @ normal) * v2
+        # Remove the round-off drift from orthogonality before normalizing.
+        normal -= (normal @ tangents[i + 1]) * tangents[i + 1]
+        out[i + 1] = normal / np.sqrt(normal @ normal)

@@ -21,7 +21,6 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from rve_rod.errors import InputError
-from rve_rod.geometry.bspline import basis_functions
 from rve_rod.rod import quaternion
 from rve_rod.rod.layout import DOFS_PER_POINT, END, START, DofLayout, RodEnd
 
@@ -461,9 +460,7 @@ class PointSupport(Condition):
                 f"{self.extra_equations} multipliers among {layout.n_extra} extra unknowns"
             )
         curve = model.patches[self.patch].centreline
-        basis = basis_functions(curve.knots, curve.degree, np.array([float(self.parameter)]))
-        local = basis.spans[0] - curve.degree + np.arange(curve.degree + 1)
-        values = basis.values[0, 0]
+        local, values = model.point_basis(self.patch, self.parameter)
         position_columns = layout.position_dofs(self.patch)[local]  # (p+1, 3)
         points, weights = model.point_load_weights(self.patch, self.parameter)
         reference_position = values @ curve.control_points[local]

@@ -15,7 +15,7 @@ import numpy as np
 
 from rve_rod.errors import InputError
 from rve_rod.geometry.bspline import BSplineCurve, basis_matrix
-from rve_rod.rod import quaternion
+from rve_rod.rod import _kernels, quaternion
 
 __all__ = [
     "quaternions_from_frames",
@@ -29,34 +29,21 @@ _SAMPLES_PER_INTERVAL = 16
 def rotation_minimizing_frames(
     points: np.ndarray, tangents: np.ndarray, initial_normal: np.ndarray
 ) -> np.ndarray:
-    """Frames (m, 3, 3) with columns (d1, d2, d3) along a sampled curve, d3 = unit tangent.
+    """Frames (m, 3, 3) with columns (d1, d2, d3) along a sampled curve, d3 = unit tangent
+    (`_kernels.rotation_minimizing_normals`).
 
     Args:
         points: (m, 3) curve points (mm), in order.
         tangents: (m, 3) unit tangents at the points.
         initial_normal: (3,) d1 at the first point; must be orthogonal to tangents[0].
     """
-    m = points.shape[0]
-    normals = np.empty((m, 3))
+    normals = np.empty((points.shape[0], 3))
     normals[0] = initial_normal
-    for i in range(m - 1):
-        chord = points[i + 1] - points[i]
-        c1 = chord @ chord
-        if c1 > 0.0:
-            reflected_normal = normals[i] - (2.0 / c1) * (chord @ normals[i]) * chord
-            reflected_tangent = tangents[i] - (2.0 / c1) * (chord @ tangents[i]) * chord
-        else:
-            reflected_normal, reflected_tangent = normals[i], tangents[i]
-        v2 = tangents[i + 1] - reflected_tangent
-        c2 = v2 @ v2
-        normal = (
-            reflected_normal - (2.0 / c2) * (v2 @ reflected_normal) * v2
-            if c2 > 0
-            else reflected_normal
-        )
-        # Remove the round-off drift from orthogonality before normalizing.
-        normal = normal - (normal @ tangents[i + 1]) * tangents[i + 1]
-        normals[i + 1] = normal / np.linalg.norm(normal)
+    _kernels.rotation_minimizing_normals(
+        np.ascontiguousarray(points, dtype=float),
+        np.ascontiguousarray(tangents, dtype=float),
+        normals,
+    )
     binormals = np.cross(tangents, normals)
     return np.stack([normals, binormals, tangents], axis=2)
 

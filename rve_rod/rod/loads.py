@@ -40,7 +40,8 @@ class LineLoads(NamedTuple):
         force: (3, M) distributed force f (N/mm).
         moment: (3, M) distributed moment l (N), or None.
         force_jacobian: sparse (3M, n_dofs) d force.ravel() / d state (C order of (3, M):
-            row c*M + j), or None if the force does not depend on the state.
+            row c*M + j; any format, repeated COO entries are summed), or None if the force
+            does not depend on the state.
         moment_jacobian: the same for the moment, or None.
     """
 

@@ -285,7 +285,9 @@ class RodModel:
             points = self.layout.points(k)
             self._row_index[:6, [points[0], points[-1]]] = -1
         self._row_mask = self._row_index >= 0
-        self._load_operator = self._line_load_operator()
+        self._point_bases: dict[tuple[int, float], tuple[np.ndarray, np.ndarray]] = {}
+        self._load_rows = self._line_load_rows()
+        self._load_mask = self._load_rows >= 0
         self._condition_rows = self._assign_condition_rows()
         self._dead = sum((load.line_loads(self) for load in self._dead_loads), np.zeros((6, m)))
         self._extra_scale = np.broadcast_to(
@@ -358,14 +360,23 @@ class RodModel:
             raise InputError(
                 f"parameter={parameter} is outside the valid range [{low}, {high}] of patch {patch}"
             )
-        basis = basis_functions(curve.knots, self.degree, np.array([float(parameter)]))
-        local = basis.spans[0] - self.degree + np.arange(self.degree + 1)
-        shares = basis.values[0, 0].copy()
+        local, shares = self.point_basis(patch, parameter)
         n = curve.n_control_points
         # The end points carry end conditions: move their shares to the interior neighbours.
         local = np.where(local == 0, 1, np.where(local == n - 1, n - 2, local))
         points = self.layout.first_point(patch) + local
         return PointLoadWeights(points, shares / self.tributary_lengths[points])
+
+    def point_basis(self, patch: int, parameter: float) -> tuple[np.ndarray, np.ndarray]:
+        """The p+1 control points acting at u* of `patch` (indices within the patch) and their
+        basis values there, both (p+1,); memoized (conditions ask at every evaluation)."""
+        key = (int(patch), float(parameter))
+        if key not in self._point_bases:
+            curve = self.patches[patch].centreline
+            basis = basis_functions(curve.knots, self.degree, np.array([key[1]]))
+            local = basis.spans[0] - self.degree + np.arange(self.degree + 1)
+            self._point_bases[key] = (local, basis.values[0, 0].copy())
+        return self._point_bases[key]
 
     # ------------------------------------------------------------------------- evaluation --
 
@@ -382,18 +393,24 @@ class RodModel:
         residual = np.zeros(self.n_dofs)
         residual[self._row_index[self._row_mask]] = local_residual[self._row_mask]
         loads = load_factor * self._dead
-        load_jacobians = []
+        load_jacobians = []  # (rows, columns, values) of the load derivatives
         for load in self._state_loads:
             contribution: LineLoads = load(self, state, load_factor)
             loads[:3] += contribution.force
             if contribution.moment is not None:
                 loads[3:] += contribution.moment
-            if contribution.force_jacobian is not None:
-                load_jacobians.append(self._load_operator[0] @ contribution.force_jacobian)
-            if contribution.moment_jacobian is not None:
-                load_jacobians.append(self._load_operator[1] @ contribution.moment_jacobian)
-        residual += self._load_operator[0] @ loads[:3].ravel()
-        residual += self._load_operator[1] @ loads[3:].ravel()
+            for k, derivative in enumerate(
+                (contribution.force_jacobian, contribution.moment_jacobian)
+            ):
+                if derivative is not None and with_jacobian:
+                    entries = derivative.tocoo()
+                    rows = self._load_rows[k][entries.row]
+                    kept = rows >= 0
+                    load_jacobians.append((rows[kept], entries.col[kept], entries.data[kept]))
+        for k in range(2):
+            residual[self._load_rows[k][self._load_mask[k]]] += loads[3 * k : 3 * k + 3].ravel()[
+                self._load_mask[k]
+            ]
         data = np.zeros(self._pattern.indices.size) if with_jacobian else None
         if with_jacobian:
             _kernels.scatter_jacobian(d_residual, self._basis, self._pattern.interior, data)
@@ -424,16 +441,26 @@ class RodModel:
                             f"condition {condition!r} changed the shape of a Jacobian block"
                         )
                     data_values.append(values)
-        np.add.at(residual, np.concatenate(residual_rows), np.concatenate(residual_values))
+        residual += np.bincount(
+            np.concatenate(residual_rows), np.concatenate(residual_values), minlength=self.n_dofs
+        )
         jacobian = None
         if with_jacobian:
-            np.add.at(data, self._pattern.condition_positions, np.concatenate(data_values))
+            data += np.bincount(
+                self._pattern.condition_positions, np.concatenate(data_values), minlength=data.size
+            )
             jacobian = scipy.sparse.csr_matrix(
                 (data, self._pattern.indices, self._pattern.indptr),
                 shape=(self.n_dofs, self.n_dofs),
             )
-            for extra in load_jacobians:
-                jacobian = jacobian + extra
+            jacobian.has_sorted_indices = True  # the pattern's columns are sorted by row
+            if load_jacobians:
+                rows, columns, values = (
+                    np.concatenate(part) for part in zip(*load_jacobians, strict=True)
+                )
+                jacobian = jacobian + scipy.sparse.coo_matrix(
+                    (values, (rows, columns)), shape=jacobian.shape
+                )
         forces = SectionForces(section[:3].copy(), section[3:].copy())
         return Evaluation(residual, jacobian, forces)
 
@@ -470,7 +497,14 @@ class RodModel:
             residual_scale=self.residual_scale(),
             state_scale=self.state_scale(),
             commit=commit,
+            nodes=self.nodes(),
         )
+
+    def nodes(self) -> np.ndarray:
+        """(n_dofs,) the node of each unknown for the LU's "NODES" ordering: the control
+        point of its 7 unknowns, -1 for the extra unknowns (`NonlinearProblem.nodes`)."""
+        points = np.repeat(np.arange(self.n_collocation), DOFS_PER_POINT)
+        return np.concatenate([points, np.full(self.layout.n_extra, -1)])
 
     def residual_scale(self) -> np.ndarray:
         """Typical magnitude of each residual row (for dimensionless convergence norms).
@@ -540,20 +574,18 @@ class RodModel:
         np.add.at(lengths, columns, basis.values[0] * (w * speed)[:, None])
         return lengths
 
-    def _line_load_operator(self) -> tuple[scipy.sparse.csr_matrix, scipy.sparse.csr_matrix]:
-        """Sparse (n_dofs, 3M) maps of force.ravel() and moment.ravel() into residual rows."""
+    def _line_load_rows(self) -> np.ndarray:
+        """(2, 3M) residual row of each entry of force.ravel() and moment.ravel() (C order of
+        (3, M): entry c M + j is component c at point j), -1 at patch end points (their rows
+        hold the end conditions)."""
         m = self.n_collocation
+        rows = np.full((2, 3, m), -1, dtype=np.int64)
         interior = np.flatnonzero(self._row_mask[0])
-        operators = []
-        for offset in (0, 3):
-            rows = (DOFS_PER_POINT * interior[None, :] + offset + np.arange(3)[:, None]).ravel()
-            columns = (np.arange(3)[:, None] * m + interior[None, :]).ravel()
-            operators.append(
-                scipy.sparse.csr_matrix(
-                    (np.ones(rows.size), (rows, columns)), shape=(self.n_dofs, 3 * m)
-                )
+        for k, offset in enumerate((0, 3)):
+            rows[k][:, interior] = (
+                DOFS_PER_POINT * interior[None, :] + offset + np.arange(3)[:, None]
             )
-        return operators[0], operators[1]
+        return rows.reshape(2, 3 * m)
 
     def _assign_condition_rows(self) -> list[np.ndarray]:
         rows = []

@@ -108,7 +108,7 @@ class ContactCoupling:
             rows = np.concatenate([rows, np.repeat(np.arange(n_rows), free.size)])
             columns = np.concatenate([columns, np.tile(free, n_rows)])
             values = np.concatenate([values, by_macro.ravel()])
-        force_jacobian = scipy.sparse.csr_matrix(
+        force_jacobian = scipy.sparse.coo_matrix(
             (values, (rows, columns)), shape=(n_rows, model.n_dofs)
         )
         return LineLoads(result.line_load, None, force_jacobian, None)

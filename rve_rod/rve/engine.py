@@ -4,10 +4,12 @@ pure-shear path or a uniaxial path of the sampling plan on the loop cell; `fabri
 gives the settings the pipeline's levels and `rve-rod surface` use for a fabric (so that the
 two share cached runs)."""
 
+import dataclasses
 from dataclasses import dataclass, field
 
 from rve_rod.errors import ConvergenceError
 from rve_rod.homogenize.samples import RveCase, RveRun
+from rve_rod.newton import LINEAR_SOLVER_OPTIONS
 from rve_rod.presets import Fabric
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase, Shear, UniaxialCourse, UniaxialWale
@@ -35,13 +37,24 @@ def path_case(load) -> LoadCase:
 
 @dataclass(frozen=True)
 class RodRve:
-    """The rod RVE engine; its settings are part of the surface cache key.
+    """The rod RVE engine; its settings, but for the linear solver's, are part of the surface
+    cache key (`cache_identity`).
 
     Attributes:
         settings: the RVE settings of every run.
     """
 
     settings: RveSettings = field(default_factory=RveSettings)
+
+    def cache_identity(self) -> dict:
+        """The engine and its settings as `engine_identity` gives them, without the linear
+        solver's (`rve_rod.newton.LINEAR_SOLVER_OPTIONS`): those change the cost of a run, not
+        its results beyond round-off, so cached runs and surfaces stay valid when they are
+        tuned."""
+        settings = dataclasses.asdict(self)
+        for name in LINEAR_SOLVER_OPTIONS:
+            del settings["settings"]["newton"][name]
+        return {"engine": f"{RodRve.__module__}.{RodRve.__qualname__}", "settings": settings}
 
     def __call__(self, case: RveCase) -> RveRun:
         """Run the case's load path; a path that stops early raises ConvergenceError whose

@@ -170,7 +170,8 @@ class MacroBalance(Condition):
         result = coupling.result(state, load_factor)
         contacts = result.contacts
         k = contacts.slave.size
-        per_contact = result.contact_jacobian.tocsr() if k else None
+        per_contact = result.contact_jacobian  # COO, row c k + i: component c of contact i
+        component, contact = (per_contact.row // k, per_contact.row % k) if k else (None, None)
         components = self.macro.contact_components()
         columns = np.concatenate([self.position_columns, self.macro.columns])
         period = coupling.lattice[0, 0]
@@ -195,8 +196,12 @@ class MacroBalance(Condition):
             if k:
                 weights, _ = image_weights(coupling, result, b)
                 value += weights @ contacts.load[a]
-                by_position = per_contact[a * k : (a + 1) * k].T @ weights  # (3n,)
-                jacobian[: self.position_columns.size] += by_position
+                mine = component == a
+                jacobian[: self.position_columns.size] += np.bincount(
+                    per_contact.col[mine],
+                    weights=per_contact.data[mine] * weights[contact[mine]],
+                    minlength=self.position_columns.size,
+                )
                 by_macro = weights @ result.contact_deformation_jacobian[a * k : (a + 1) * k]
                 jacobian[self.position_columns.size :] += by_macro[components]
             blocks.append(Block(rows, np.array([value]), columns, jacobian[None, :]))

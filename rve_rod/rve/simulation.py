@@ -60,7 +60,9 @@ class RveSettings:
     cell: CellSettings = field(default_factory=CellSettings)
     yarn: YarnSettings = field(default_factory=YarnSettings)
     newton: NewtonOptions = field(
-        default_factory=lambda: NewtonOptions(line_search=4, ordering="NATURAL")
+        default_factory=lambda: NewtonOptions(
+            line_search=4, ordering="NODES", pivot_threshold=0.01, refinement=3
+        )
     )
     stepping: SteppingOptions = field(default_factory=SteppingOptions)
 
@@ -289,6 +291,7 @@ class _Recorder:
             state_scale=self.problem.state_scale,
             commit=self.commit,
             admissible=self.problem.admissible,
+            nodes=self.problem.nodes,
         )
 
 

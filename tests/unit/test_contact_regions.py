@@ -9,8 +9,13 @@ import numpy as np
 import pytest
 from contact_scenes import wrapped_rods
 
-from rve_rod.contact import CompressibleYarnLaw, ContactModel, ContactOptions
-from rve_rod.contact.regions import prominences
+from rve_rod.contact import CompressibleYarnLaw, ContactModel, ContactOptions, _kernels
+from rve_rod.contact.regions import (
+    StrandGeometry,
+    StrandPoints,
+    prominences,
+    separating_maxima,
+)
 from rve_rod.geometry.bspline import BSplineCurve
 
 LAW = CompressibleYarnLaw(stiffness=10.0, exponent=1.5, yarn_radius=0.2)
@@ -172,3 +177,213 @@ def test_equal_minima_have_equal_prominence_and_a_deeper_one_climbs_to_touch():
     # Minima that do not penetrate (h = 2r) have none.
     none, _ = prominences(np.array([TOUCH, TOUCH]), np.array([TOUCH]), TOUCH)
     np.testing.assert_allclose(none, 0.0)
+
+
+# -- kernels against their NumPy twins ---------------------------------------------------------
+
+
+def reference_prominences(minima, maxima, touch):
+    """NumPy twin of `_kernels.prominences` (the formula of `regions.prominences`)."""
+    n = minima.size
+    p = touch - minima
+    derivative = np.zeros((n, 2 * n - 1))
+    derivative[np.arange(n), np.arange(n)] = -1.0
+    lower = np.full(n, np.inf)
+    lower_gap = np.full(n, -1)
+    for gap, value in enumerate(maxima):
+        for j in (gap, gap + 1):
+            if value < lower[j]:
+                lower[j], lower_gap[j] = value, gap
+    for i in range(n):
+        for j in range(n):
+            if j == i:
+                continue
+            barrier_gap = max(range(min(i, j), max(i, j)), key=lambda g: maxima[g])
+            barrier = maxima[barrier_gap]
+            rise = minima[j] - minima[i]
+            depth = lower[j] - minima[j]
+            row = np.zeros(2 * n - 1)
+            row[i] = -1.0
+            row[n + barrier_gap] = 1.0
+            step = 0.0
+            if rise > 0.0 and depth <= rise:
+                step = 1.0
+            elif rise > 0.0:
+                x = rise / depth
+                step = x * x * (3.0 - 2.0 * x)
+                slope = 6.0 * x * (1.0 - x) * (touch - barrier)
+                row[i] -= slope / depth
+                row[j] += slope * (lower[j] - minima[i]) / depth**2
+                row[n + lower_gap[j]] -= slope * rise / depth**2
+            value = barrier - minima[i] + (touch - barrier) * step
+            row[n + barrier_gap] -= step
+            if value < p[i]:
+                p[i] = value
+                derivative[i] = row
+    negative = p < 0.0
+    p[negative] = 0.0
+    derivative[negative] = 0.0
+    return p, derivative
+
+
+def random_region(rng, n):
+    """Capped distances of n minima (some at 2r) and the n - 1 maxima between them."""
+    minima = np.minimum(rng.uniform(0.28, 0.42, n), TOUCH)
+    maxima = np.minimum(np.maximum(minima[:-1], minima[1:]) + rng.uniform(0.0, 0.03, n - 1), TOUCH)
+    return minima, maxima
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_prominence_kernel_matches_its_numpy_twin(seed):
+    rng = np.random.default_rng(100 + seed)
+    minima, maxima = random_region(rng, 2 + seed % 4)
+    p, derivative = prominences(minima, maxima, TOUCH)
+    expected_p, expected_derivative = reference_prominences(minima, maxima, TOUCH)
+    np.testing.assert_array_equal(p, expected_p)
+    np.testing.assert_array_equal(derivative, expected_derivative)
+
+
+def reference_region_weights(distance, maximum, order, gap_pair, *, bounds, touch):
+    """NumPy twin of `_kernels.region_weights`: weights of the region members and the terms
+    (contact, kind, index, coefficient) of their derivatives."""
+    weight = np.ones(distance.size)
+    terms = []
+    for first, count in bounds.T:
+        members = order[first : first + count]
+        gaps = gap_pair[first : first + count - 1]
+        p, derivative = reference_prominences(
+            np.minimum(distance[members], touch), np.minimum(maximum[gaps], touch), touch
+        )
+        power = p**2
+        total = power.sum()
+        if total <= 0.0:
+            weight[members] = 1.0 / count
+            continue
+        weight[members] = power / total
+        dw_dp = (np.eye(count) - (power / total)[:, None]) * (2.0 * p / total)[None, :]
+        dw_dh = dw_dp @ derivative
+        for i in range(count):
+            for kind, index, coefficients in (
+                (0, members, dw_dh[i, :count]),
+                (1, gaps, dw_dh[i, count:]),
+            ):
+                stationary = (distance, maximum)[kind][index]
+                for q in np.flatnonzero((stationary < touch) & (coefficients != 0.0)):
+                    terms.append((members[i], kind, index[q], coefficients[q]))
+    return weight, terms
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_region_weight_kernel_matches_its_numpy_twin(seed):
+    """Regions of 1 to 4 minima in a shuffled order, some without penetration."""
+    rng = np.random.default_rng(seed)
+    sizes = rng.integers(1, 5, 7)
+    k = int(sizes.sum())
+    distance = np.empty(k)
+    maximum = np.full(k, np.inf)
+    gap_pair = np.full(k, -1)
+    order = rng.permutation(k)
+    first = 0
+    for size in sizes:
+        minima, maxima = random_region(rng, size)
+        distance[order[first : first + size]] = minima
+        maximum[first : first + size - 1] = maxima
+        gap_pair[first : first + size - 1] = np.arange(first, first + size - 1)
+        first += size
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    shared = sizes > 1
+    bounds = np.stack([starts[shared], sizes[shared]]).astype(np.int64)
+    capacity = int(np.sum(sizes * (2 * sizes - 1)))
+    out = _kernels.RegionTerms(
+        *(np.empty(capacity, dtype=np.int64) for _ in range(3)), np.empty(capacity)
+    )
+    weight = np.ones(k)
+    count = _kernels.region_weights(
+        (distance, maximum), _kernels.Regions(order, gap_pair, bounds), TOUCH, weight, out
+    )
+    expected_weight, expected_terms = reference_region_weights(
+        distance, maximum, order, gap_pair, bounds=bounds, touch=TOUCH
+    )
+    np.testing.assert_allclose(weight, expected_weight, rtol=1e-14)
+    assert count == len(expected_terms) > 0
+    contact, kind, index, coefficient = (field[:count] for field in out)
+    np.testing.assert_array_equal(contact, [term[0] for term in expected_terms])
+    np.testing.assert_array_equal(kind, [term[1] for term in expected_terms])
+    np.testing.assert_array_equal(index, [term[2] for term in expected_terms])
+    np.testing.assert_allclose(coefficient, [term[3] for term in expected_terms], rtol=1e-12)
+
+
+def reference_maxima(layout, points, slave_point, *, yarn, start, stop, samples=16):
+    """NumPy twin of `_kernels.separating_maxima` for one pair on an open yarn in image
+    (0, 0): the distance sampled at `samples` interior arc coordinates, then Newton on its
+    slope in the arc coordinate, bisecting when a step leaves the bracket. Returns the arc
+    coordinate and the distance of the maximum."""
+    spans = np.flatnonzero(layout.span_yarn == yarn)
+
+    def geometry(arc, order):
+        local = np.clip(arc, 0.0, layout.yarn_length[yarn])
+        span = spans[
+            np.clip(np.searchsorted(layout.span_arc_start[spans], local, "right") - 1, 0, None)
+        ]
+        tau = np.clip((local - layout.span_arc_start[span]) / layout.span_arc_length[span], 0, 1)
+        basis = layout.basis(np.array([span]), np.array([tau]), order)[0]
+        return basis @ layout.span_points(points)[span], layout.span_arc_length[span]
+
+    arcs = start + np.arange(samples + 2) / (samples + 1) * (stop - start)
+    values = [np.sum((geometry(arc, 0)[0] - slave_point) ** 2) for arc in arcs[1:-1]]
+    best = 1 + int(np.argmax(values))
+    low, high, arc = arcs[best - 1], arcs[best + 1], arcs[best]
+    for _ in range(60):
+        point, length = geometry(arc, 0)
+        first, second = geometry(arc, 1)[0], geometry(arc, 2)[0]
+        slope = (point - slave_point) @ first / length
+        curvature = (first @ first + (point - slave_point) @ second) / length**2
+        low, high = (arc, high) if slope >= 0.0 else (low, arc)
+        step = arc - slope / curvature if curvature < 0.0 else np.nan
+        step = step if low < step < high else 0.5 * (low + high)
+        done = abs(step - arc) <= 1e-12 * (1.0 + abs(start))
+        arc = step
+        if done:
+            break
+    return arc, np.linalg.norm(geometry(arc, 0)[0] - slave_point)
+
+
+@pytest.mark.parametrize("tilt", [0.0, 0.005, 0.01])
+def test_separating_maximum_kernel_matches_its_numpy_twin_and_a_dense_sampling(tilt):
+    """The maximum of the distance from the origin to rod 1 between its two minima."""
+    scene = wrapped_rods(tilt=tilt, lean=0.0)
+    model = model_of(scene)
+    layout = model.layout
+    on_rod_1 = np.flatnonzero(layout.span_yarn == 1)
+    length = layout.yarn_length[1]
+    # the minima lie near t = +-0.8 of t in [-1.8, 1.8] (arc fractions about 0.28, 0.72),
+    # the maximum between them at t = 0
+    start, stop = 0.32 * length, 0.68 * length
+    geometry = StrandGeometry(layout, scene.positions, np.zeros((2, 3)))
+    ends = [
+        StrandPoints(
+            slave=np.array([MIDDLE]),
+            span=on_rod_1[:1],
+            tau=np.zeros(1),
+            image=np.zeros((1, 2), dtype=np.int64),
+            arc=np.array([arc]),
+            strand=np.zeros(1, dtype=np.int64),
+            distance=np.zeros(1),
+            normal=np.zeros((3, 1)),
+        )
+        for arc in (start, stop)
+    ]
+    slave_points = layout.collocation_positions(scene.positions)
+    found = separating_maxima(geometry, slave_points, *ends)
+    arc, distance = reference_maxima(
+        layout, scene.positions, slave_points[:, MIDDLE], yarn=1, start=start, stop=stop
+    )
+    assert found.arc[0] == pytest.approx(arc, abs=1e-11)
+    assert found.distance[0] == pytest.approx(distance, rel=1e-13)
+    assert np.linalg.norm(found.normal[:, 0]) == pytest.approx(1.0, abs=1e-14)
+    curve = BSplineCurve(layout.degree, scene.patches[1].knots, scene.positions[17:])
+    dense = curve(np.linspace(0.0, 1.0, 400_001))
+    arcs = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
+    inside = dense[(arcs >= start) & (arcs <= stop)]
+    sampled = np.linalg.norm(inside - slave_points[:, MIDDLE], axis=1)
+    assert 0.37 < found.distance[0] == pytest.approx(sampled.max(), abs=1e-9)

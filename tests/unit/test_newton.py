@@ -1,13 +1,22 @@
 """Newton solver and load stepping on small analytic systems."""
 
+import dataclasses
 import itertools
 
 import numpy as np
 import pytest
 import scipy.sparse
+import scipy.sparse.linalg
 
 from rve_rod.errors import ConvergenceError, InputError
-from rve_rod.newton import NewtonOptions, NonlinearProblem, newton_solve, solve_path
+from rve_rod.newton import (
+    LinearSolver,
+    NewtonOptions,
+    NonlinearProblem,
+    newton_solve,
+    node_ordering,
+    solve_path,
+)
 from rve_rod.stepping import SteppingOptions
 
 
@@ -166,13 +175,98 @@ def test_line_search_breaks_a_newton_cycle():
     assert min(convergence_orders(searched.residual_norms)) > 1.8  # still Newton at the end
 
 
-@pytest.mark.parametrize("ordering", ["COLAMD", "NATURAL", "MMD_ATA", "MMD_AT_PLUS_A"])
+@pytest.mark.parametrize("ordering", ["COLAMD", "NATURAL", "MMD_ATA", "MMD_AT_PLUS_A", "NODES"])
 def test_every_lu_ordering_gives_the_same_newton_path(ordering):
     reference = newton_solve(cubic_problem(), np.array([3.0, 4.0]), 1.0)
-    result = newton_solve(
-        cubic_problem(), np.array([3.0, 4.0]), 1.0, NewtonOptions(ordering=ordering)
-    )
+    problem = dataclasses.replace(cubic_problem(), nodes=np.array([0, 1]))
+    result = newton_solve(problem, np.array([3.0, 4.0]), 1.0, NewtonOptions(ordering=ordering))
     assert result.iterations == reference.iterations
     np.testing.assert_allclose(result.residual_norms, reference.residual_norms, rtol=1e-10)
     with pytest.raises(InputError, match="ordering='AMD' is unknown"):
         NewtonOptions(ordering="AMD")
+
+
+def test_a_trial_within_the_residual_tolerance_is_not_damped():
+    """Started at the root, the merit cannot fall (it is 0), yet the full step is taken: no
+    line-search evaluations spent on round-off."""
+    calls = []
+
+    def evaluate(u, t):
+        calls.append(u.copy())
+        return np.array([u[0] - t]), scipy.sparse.csr_matrix([[1.0]])
+
+    result = newton_solve(NonlinearProblem(evaluate), np.ones(1), 1.0, NewtonOptions(line_search=4))
+    assert result.converged and result.iterations == 1
+    assert len(calls) == 2
+
+
+def ring_with_chords(points, chord, dofs=3, seed=0):
+    """A block-banded periodic (ring) matrix of `points` nodes with `dofs` unknowns each,
+    coupled to their neighbours within 2 and to the node `chord` further on (a rod's band,
+    periodic link and contacts), plus 2 unknowns without a node coupled to everything.
+    Diagonally dominant. Returns the matrix and the nodes of the unknowns."""
+    rng = np.random.default_rng(seed)
+    n = points * dofs + 2
+    dense = np.zeros((n, n))
+    for i in range(points):
+        for j in [i + d for d in range(-2, 3)] + [i + chord]:
+            block = rng.normal(size=(dofs, dofs))
+            dense[i * dofs : (i + 1) * dofs, (j % points) * dofs : (j % points + 1) * dofs] += block
+    dense[-2:, :] = rng.normal(size=(2, n))
+    dense[:, -2:] = rng.normal(size=(n, 2))
+    dense += np.diag(np.abs(dense).sum(axis=1) + 1.0)
+    nodes = np.concatenate([np.repeat(np.arange(points), dofs), [-1, -1]])
+    return scipy.sparse.csr_matrix(dense), nodes
+
+
+def test_node_ordering_keeps_nodes_together_and_lowers_the_fill():
+    matrix, nodes = ring_with_chords(60, 20)
+    order = node_ordering(matrix, nodes)
+    assert sorted(order) == list(range(nodes.size))
+    ordered = nodes[order]
+    assert list(ordered[-2:]) == [-1, -1]  # the unknowns without a node come last
+    blocks = ordered[:-2].reshape(-1, 3)
+    assert np.all(blocks == blocks[:, :1])  # each node's unknowns together ...
+    assert np.all(np.diff(order[:-2].reshape(-1, 3), axis=1) == 1)  # ... in their order
+    natural = scipy.sparse.linalg.splu(matrix.tocsc(), permc_spec="NATURAL")
+    reordered = scipy.sparse.linalg.splu(
+        matrix[order][:, order].tocsc(), permc_spec="NATURAL", diag_pivot_thresh=0.01
+    )
+    assert reordered.L.nnz + reordered.U.nnz < 0.7 * (natural.L.nnz + natural.U.nnz)
+
+
+def test_unknowns_without_nodes_keep_their_order():
+    order = node_ordering(scipy.sparse.identity(3, format="csr"), np.full(3, -1))
+    np.testing.assert_array_equal(order, [0, 1, 2])
+
+
+def test_linear_solver_reuses_factors_while_refinement_reaches_the_tolerance():
+    matrix, nodes = ring_with_chords(40, 13)
+    rng = np.random.default_rng(1)
+    rhs = rng.normal(size=nodes.size)
+    options = NewtonOptions(ordering="NODES", pivot_threshold=0.01, refinement=3)
+    solver = LinearSolver(options, nodes)
+    for change in (0.0, 1e-6, 1e-4, 0.3):  # the last too far for the old factors
+        changed = matrix + change * scipy.sparse.diags(rng.normal(size=nodes.size)) @ matrix
+        solution = solver.solve(changed, rhs)
+        np.testing.assert_allclose(changed @ solution, rhs, atol=1e-8 * np.abs(rhs).max())
+    assert solver.factorizations == 2
+    assert solver.reused == 2
+
+
+def test_without_refinement_every_system_is_factorized():
+    matrix, nodes = ring_with_chords(20, 7)
+    solver = LinearSolver(NewtonOptions(ordering="NODES"), nodes)
+    rhs = np.ones(nodes.size)
+    for _ in range(3):
+        np.testing.assert_allclose(matrix @ solver.solve(matrix, rhs), rhs, atol=1e-12)
+    assert (solver.factorizations, solver.reused) == (3, 0)
+
+
+def test_nodes_ordering_needs_nodes_and_options_are_checked():
+    with pytest.raises(InputError, match="needs a problem with nodes"):
+        LinearSolver(NewtonOptions(ordering="NODES"))
+    with pytest.raises(InputError, match="pivot_threshold=2 is outside"):
+        NewtonOptions(pivot_threshold=2.0)
+    with pytest.raises(InputError, match="linear_tolerance=0 is outside"):
+        NewtonOptions(linear_tolerance=0.0)

@@ -8,7 +8,7 @@ from rod_cases import arc, helix, straight
 
 from rve_rod.errors import InputError
 from rve_rod.geometry.bspline import BSplineCurve
-from rve_rod.rod import reference_quaternions
+from rve_rod.rod import _kernels, reference_quaternions
 from rve_rod.rod.quaternion import curvature, rotation_matrix
 
 
@@ -49,3 +49,33 @@ def test_initial_normal_along_tangent_is_rejected():
     curve = straight(length=2.0, degree=3, n=8)
     with pytest.raises(InputError, match="parallel"):
         reference_quaternions([curve], initial_normal=np.array([1.0, 0.0, 0.0]))
+
+
+def reference_normals(points, tangents, initial_normal):
+    """NumPy twin of `_kernels.rotation_minimizing_normals` (double reflection)."""
+    normals = [np.asarray(initial_normal, dtype=float)]
+    for i in range(points.shape[0] - 1):
+        chord = points[i + 1] - points[i]
+        c1 = chord @ chord
+        normal = normals[i] - (2.0 / c1) * (chord @ normals[i]) * chord
+        tangent = tangents[i] - (2.0 / c1) * (chord @ tangents[i]) * chord
+        v2 = tangents[i + 1] - tangent
+        c2 = v2 @ v2
+        normal = normal - (2.0 / c2) * (v2 @ normal) * v2 if c2 > 0 else normal
+        normal = normal - (normal @ tangents[i + 1]) * tangents[i + 1]
+        normals.append(normal / np.linalg.norm(normal))
+    return np.array(normals)
+
+
+def test_double_reflection_kernel_matches_its_numpy_twin():
+    t = np.linspace(0.0, 4.0, 400)
+    points = np.stack([np.cos(t), np.sin(2 * t), 0.3 * t], axis=1)
+    derivative = np.stack([-np.sin(t), 2 * np.cos(2 * t), np.full_like(t, 0.3)], axis=1)
+    tangents = derivative / np.linalg.norm(derivative, axis=1)[:, None]
+    start = np.cross(tangents[0], [0.0, 0.0, 1.0])
+    start /= np.linalg.norm(start)
+    normals = np.empty_like(points)
+    normals[0] = start
+    _kernels.rotation_minimizing_normals(points, tangents, normals)
+    np.testing.assert_allclose(normals, reference_normals(points, tangents, start), atol=1e-14)
+    np.testing.assert_allclose(np.einsum("ic,ic->i", normals, tangents), 0.0, atol=1e-14)

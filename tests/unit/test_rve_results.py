@@ -1,6 +1,7 @@
 """RVE results: per-step records, JSON export, the homogenization's RveRun, partial runs, and
 the surface engine's mapping of sampling paths to load cases (the test loop of rve_cases)."""
 
+import dataclasses
 import json
 import math
 
@@ -114,3 +115,16 @@ def test_surface_engine_runs_a_path_and_reports_incomplete_ones(monkeypatch):
     assert not partial.complete
     assert partial.deformation_gradient.shape[0] < 3
     assert math.isfinite(float(np.sum(partial.first_piola)))
+
+
+def test_the_linear_solver_settings_are_not_part_of_the_cache_identity():
+    """They change the cost, not the results (docs/rve.md): a cache made with one ordering
+    serves another; any other solver setting is part of the identity."""
+    identity = engine.RodRve(COARSE).cache_identity()
+    direct = dataclasses.replace(
+        COARSE, newton=NewtonOptions(line_search=4, ordering="COLAMD", refinement=0)
+    )
+    assert engine.RodRve(direct).cache_identity() == identity
+    assert "ordering" not in json.dumps(identity)
+    searched = dataclasses.replace(COARSE, newton=NewtonOptions(line_search=2))
+    assert engine.RodRve(searched).cache_identity() != identity
