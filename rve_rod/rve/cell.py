@@ -290,7 +290,7 @@ class LoopCell:
             rest.coupling.use_law(dataclasses.replace(law, yarn_radius=grown))
             return problem.evaluate(state, 0.0)
 
-        squeezing = NonlinearProblem(evaluate, problem.residual_scale, problem.state_scale)
+        squeezing = dataclasses.replace(problem, evaluate=evaluate, commit=None, admissible=None)
         fractions = np.linspace(0.0, 1.0, SQUEEZE_STEPS + 1)[1:]
         try:
             path = solve_path(
