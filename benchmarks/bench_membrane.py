@@ -36,7 +36,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
-from fabric_dolfinx.membrane import membrane_forms
+from fabric_dolfinx.membrane import flat_frame, membrane_forms
 from fabric_dolfinx.mesh import plate_with_hole
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
 from fabric_dolfinx.tension import TensionSetup
@@ -140,7 +140,7 @@ def compile_one(material, jacobian):
         _, degree, spans = material.split("-")
         surface = synthetic_surface(degree=int(degree), spans=int(spans))
         law = surface_material(surface).law
-    forms = membrane_forms(u, law, fem.Constant(domain, 0.3), 2)
+    forms = membrane_forms(u, law, flat_frame(domain, fem.Constant(domain, 0.3)), 2)
     form = forms.jacobian if jacobian == "chain-rule" else ufl.derivative(forms.residual, u)
     start = time.perf_counter()
     fem.form(form)
@@ -218,7 +218,9 @@ def hole_reaction(degree, quadrature_degree, refinements):
     domain = tagged.mesh
     space = fem.VectorFunctionSpace(domain, ("Lagrange", degree))
     u = fem.Function(space)
-    forms = membrane_forms(u, surface_material(synthetic_surface()).law, 0.0, quadrature_degree)
+    forms = membrane_forms(
+        u, surface_material(synthetic_surface()).law, flat_frame(domain), quadrature_degree
+    )
     stretch = fem.Constant(domain, PETSc.ScalarType(0.0))
     corner = dolfinx_mesh.locate_entities_boundary(
         domain, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], 0.0)

@@ -26,7 +26,7 @@ class StrainRangeCheck:
     """Material-frame strain range at the quadrature points, against a surface domain.
 
     Args:
-        material_strain: UFL (2, 2) strain in the material frame (MembraneStress).
+        material_strain: UFL (2, 2) strain in the material frame (`MembraneState.strain`).
         mesh: the mesh it lives on.
         domain: (3, 2) [min, max] of E11, E22, E12.
         quadrature_degree: degree of the Gauss rule of the forms (same points).

@@ -15,7 +15,7 @@ import numpy as np
 from dolfinx import fem
 from dolfinx.io import XDMFFile
 
-from fabric_dolfinx.membrane import MembraneStress
+from fabric_dolfinx.membrane import MembraneState
 from rve_rod.errors import InputError
 
 __all__ = [
@@ -35,14 +35,14 @@ class CellFields:
         displacement: u in the coordinate degree of the mesh (mm).
     """
 
-    def __init__(self, u: fem.Function, stress: MembraneStress):
+    def __init__(self, u: fem.Function, stress: MembraneState):
         mesh = u.function_space.mesh
         cells = fem.TensorFunctionSpace(mesh, ("DG", 0))
         points = cells.element.interpolation_points()
         self.strain = fem.Function(cells, name="green_lagrange_strain")
         self.cauchy = fem.Function(cells, name="cauchy_stress")
         self._expressions = [
-            (fem.Expression(stress.strain, points), self.strain),
+            (fem.Expression(stress.reference_strain, points), self.strain),
             (fem.Expression(stress.cauchy, points), self.cauchy),
         ]
         self._u = u

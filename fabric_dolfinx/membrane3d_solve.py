@@ -1,6 +1,7 @@
 """A fabric part that moves in space: supports, pressure, an indenter, load path, output.
 
-`Membrane3DProblem` assembles the forms of `fabric_dolfinx.membrane3d` on a tagged mesh
+`Membrane3DProblem` assembles the membrane forms (`fabric_dolfinx.membrane`, 3 components)
+and the loads of `fabric_dolfinx.membrane3d` on a tagged mesh
 (flat: a shape of the plane membrane; curved: a gmsh surface in space with a course field)
 and follows the load path t = 0 -> 1 with the shared `LoadStepper` (cutbacks included):
 prescribed support displacements, the follower pressure and the indenter's travel all scale
@@ -50,14 +51,12 @@ from petsc4py import PETSc
 
 from fabric_dolfinx.domain import StrainRangeCheck
 from fabric_dolfinx.material import Material
+from fabric_dolfinx.membrane import material_frame, membrane_forms, membrane_state
 from fabric_dolfinx.membrane3d import (
     Indenter,
     contact_pressure,
     contact_residual,
-    membrane3d_forms,
     pressure_residual,
-    surface_frame,
-    surface_stress_state,
 )
 from fabric_dolfinx.mesh import TaggedMesh
 from fabric_dolfinx.solve import (
@@ -187,7 +186,7 @@ class Membrane3DProblem:
         supports: held displacement components (enough to remove rigid-body modes).
         angle: course direction of a flat reference, radians from x (number or DG0 field).
         course, side: the course-direction and normal-side fields of a curved reference
-            (`membrane3d.curved_frame`); required for gdim 3.
+            (`membrane.curved_frame`); required for gdim 3.
         pressure: follower pressure at t = 1 (N/mm^2 = MPa), towards the normal's side.
         edge_loads: dead loads on boundaries.
         indenter: a rigid sphere or plane (`membrane3d`), or None.
@@ -220,7 +219,7 @@ class Membrane3DProblem:
         self.indenter = indenter
         self.options = options or SolverOptions()
         mesh = tagged.mesh
-        self.frame = surface_frame(mesh, angle, course, side)
+        self.frame = material_frame(mesh, 3, angle, course, side)
         self.flat = mesh.geometry.dim == 2
         space = fem.VectorFunctionSpace(mesh, ("Lagrange", element_degree), dim=3)
         self.space = space
@@ -228,7 +227,7 @@ class Membrane3DProblem:
         self.quadrature_degree = quadrature_degree or 2 * element_degree
         dx = ufl.dx(domain=mesh, metadata={"quadrature_degree": self.quadrature_degree})
         ds = ufl.Measure("ds", domain=mesh, subdomain_data=tagged.facet_tags)
-        forms = membrane3d_forms(self.u, material.law, self.frame, self.quadrature_degree)
+        forms = membrane_forms(self.u, material.law, self.frame, self.quadrature_degree)
         self._scaled: list[tuple[fem.Constant, np.ndarray, np.ndarray]] = []
         loads = None
         if pressure != 0.0:
@@ -399,7 +398,7 @@ class Membrane3DProblem:
         self.previous.x.array[:] = 0.0
         check = None
         if self.material.domain is not None:
-            strain = surface_stress_state(self.u, self.material.law, self.frame).strain
+            strain = membrane_state(self.u, self.material.law, self.frame).strain
             mesh = self.tagged.mesh
             check = StrainRangeCheck(strain, mesh, self.material.domain, self.quadrature_degree)
         outside = [False]
@@ -527,7 +526,7 @@ class Membrane3DFields:
 
     def __init__(self, problem: Membrane3DProblem):
         mesh = problem.tagged.mesh
-        state = surface_stress_state(problem.u, problem.material.law, problem.frame)
+        state = membrane_state(problem.u, problem.material.law, problem.frame)
         plane = fem.TensorFunctionSpace(mesh, ("DG", 0), shape=(2, 2))
         space = fem.TensorFunctionSpace(mesh, ("DG", 0), shape=(3, 3))
         pairs = fem.VectorFunctionSpace(mesh, ("DG", 0), dim=2)

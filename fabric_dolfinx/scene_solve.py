@@ -25,7 +25,7 @@ from fabric_dolfinx.boundary import BoundaryLoads
 from fabric_dolfinx.domain import StrainRangeCheck
 from fabric_dolfinx.graded import graded_material
 from fabric_dolfinx.material import Material
-from fabric_dolfinx.membrane import membrane_forms, membrane_stress
+from fabric_dolfinx.membrane import flat_frame, membrane_forms, membrane_state
 from fabric_dolfinx.mesh import TaggedMesh
 from fabric_dolfinx.part_spec import BoundaryCondition
 from fabric_dolfinx.regions import Region, assign_regions, cell_field
@@ -179,12 +179,13 @@ class FabricProblem:
         )
         self.stitch = cell_field(scalars, self.cells, [r.stitch for r in self.regions], "stitch")
         self.materials = tuple(self._material(number) for number in range(len(self.regions)))
+        self.frame = flat_frame(mesh, self.angle)
         self.quadrature_degree = quadrature_degree or 2 * element_degree
         dx = ufl.Measure("dx", domain=mesh, subdomain_data=self.cells.tags)
         residual = jacobian = None
         for number, material in enumerate(self.materials):
             forms = membrane_forms(
-                self.u, material.law, self.angle, self.quadrature_degree, dx(number)
+                self.u, material.law, self.frame, self.quadrature_degree, dx(number)
             )
             residual = forms.residual if residual is None else residual + forms.residual
             jacobian = forms.jacobian if jacobian is None else jacobian + forms.jacobian
@@ -271,7 +272,7 @@ class FabricProblem:
         self.loads.set_load_factor(0.0)
         checks = {
             region.name: StrainRangeCheck(
-                membrane_stress(self.u, self.materials[number].law, self.angle).material_strain,
+                membrane_state(self.u, self.materials[number].law, self.frame).strain,
                 self.tagged.mesh,
                 self.materials[number].domain,
                 self.quadrature_degree,
@@ -399,11 +400,11 @@ class SceneFields:
         )
         self._regions = []
         for number, material in enumerate(problem.materials):
-            stress = membrane_stress(u, material.law, problem.angle)
+            stress = membrane_state(u, material.law, problem.frame)
             self._regions.append(
                 (
                     cells.cells(number),
-                    fem.Expression(stress.strain, points),
+                    fem.Expression(stress.reference_strain, points),
                     fem.Expression(stress.cauchy, points),
                 )
             )

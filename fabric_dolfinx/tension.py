@@ -21,7 +21,7 @@ from petsc4py import PETSc
 from fabric_dolfinx.domain import StrainRangeCheck
 from fabric_dolfinx.io import CellFields, XDMFOutput
 from fabric_dolfinx.material import Material
-from fabric_dolfinx.membrane import membrane_forms, membrane_stress
+from fabric_dolfinx.membrane import flat_frame, membrane_forms, membrane_state
 from fabric_dolfinx.mesh import rectangle_patch
 from fabric_dolfinx.solve import (
     LoadStepper,
@@ -75,7 +75,8 @@ class TensionSetup:
         test, material, options: the inputs.
         mesh: the TaggedMesh of the patch.
         u: the displacement (mm).
-        stress: the MembraneStress expressions at u.
+        frame: the material frame (course at `test.angle`).
+        stress: the MembraneState expressions at u.
         stepper: the LoadStepper (reactions "clamp" and "moving").
     """
 
@@ -100,8 +101,9 @@ class TensionSetup:
         self.u = fem.Function(space, name="displacement")
         self.angle = fem.Constant(domain, PETSc.ScalarType(math.radians(test.angle)))
         self.quadrature_degree = test.quadrature_degree or 2 * test.element_degree
-        self.stress = membrane_stress(self.u, material.law, self.angle)
-        forms = membrane_forms(self.u, material.law, self.angle, self.quadrature_degree)
+        self.frame = flat_frame(domain, self.angle)
+        self.stress = membrane_state(self.u, material.law, self.frame)
+        forms = membrane_forms(self.u, material.law, self.frame, self.quadrature_degree)
         clamped, moving, component = DIRECTIONS[test.direction]
         self._component = component
         self._displacement = fem.Constant(domain, np.zeros(2, dtype=PETSc.ScalarType))
@@ -152,7 +154,7 @@ class TensionSetup:
         check = None
         if self.material.domain is not None:
             check = StrainRangeCheck(
-                self.stress.material_strain,
+                self.stress.strain,
                 self.mesh.mesh,
                 self.material.domain,
                 self.quadrature_degree,

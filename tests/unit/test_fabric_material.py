@@ -11,11 +11,11 @@ from mpi4py import MPI
 from fabric_dolfinx.material import (
     OrthotropicSVK,
     piecewise_basis,
-    second_piola_kirchhoff,
     spline_1d,
     spline_2d,
     svk_stress,
 )
+from fabric_dolfinx.membrane import flat_frame, membrane_state
 from rve_rod.errors import InputError
 from rve_rod.surface import Spline1D, Spline2D
 
@@ -158,15 +158,25 @@ def test_svk_rejects_bad_parameters(field, value, message):
 
 
 def test_rotated_svk_stress_matches_numpy_rotation():
-    """S = R C(R^T E R) R^T for a constant angle, against a plain numpy evaluation."""
+    """The membrane's law sees R^T E R and R S R^T is C(R^T E R) rotated back, for a constant
+    angle and a homogeneous stretch u = (U - I) X, against a plain numpy evaluation."""
     material = OrthotropicSVK(1.0, 0.4, 0.3, 0.1)
     angle, strain = 0.7, np.array([[0.1, 0.03], [0.03, -0.02]])
     domain = mesh.create_unit_square(MPI.COMM_SELF, 1, 1, mesh.CellType.quadrilateral)
-    E = ufl.as_matrix(strain.tolist())
-    law = lambda E: svk_stress(E, material)  # noqa: E731
-    S = second_piola_kirchhoff(E, law, fem.Constant(domain, angle))
-    expression = fem.Expression(S, np.array([[0.5, 0.5]]))
-    value = expression.eval(np.array([0], dtype=np.int32)).reshape(2, 2)
+    values, vectors = np.linalg.eigh(np.eye(2) + 2 * strain)
+    stretch = vectors @ np.diag(np.sqrt(values)) @ vectors.T  # U with U^T U = I + 2E
+    u = fem.Function(fem.VectorFunctionSpace(domain, ("Lagrange", 1)))
+    u.interpolate(lambda x: (stretch - np.eye(2)) @ x[:2])
+    frame = flat_frame(domain, fem.Constant(domain, angle))
+    state = membrane_state(u, lambda E: svk_stress(E, material), frame)
+    T = frame.tangents
+    S = T * state.second_piola_kirchhoff * T.T
+    fields = ufl.as_vector(
+        [state.reference_strain[0, 1]] + [S[i, j] for i in (0, 1) for j in (0, 1)]
+    )
+    table = fem.Expression(fields, np.array([[0.5, 0.5]])).eval(np.array([0], dtype=np.int32))
+    assert table[0, 0] == pytest.approx(strain[0, 1], abs=1e-15)
+    value = table[0, 1:].reshape(2, 2)
     c, s = np.cos(angle), np.sin(angle)
     R = np.array([[c, -s], [s, c]])
     local = R.T @ strain @ R

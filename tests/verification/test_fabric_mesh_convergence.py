@@ -10,7 +10,7 @@ from petsc4py import PETSc
 from surface_cases import synthetic_surface
 
 from fabric_dolfinx.material import surface_material
-from fabric_dolfinx.membrane import membrane_forms
+from fabric_dolfinx.membrane import flat_frame, membrane_forms
 from fabric_dolfinx.mesh import plate_with_hole
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
 
@@ -29,7 +29,7 @@ def stretched_plate_reaction(refinements: int) -> float:
     domain = tagged.mesh
     space = fem.VectorFunctionSpace(domain, ("Lagrange", 1))
     u = fem.Function(space)
-    forms = membrane_forms(u, MATERIAL.law)
+    forms = membrane_forms(u, MATERIAL.law, flat_frame(domain))
     stretch = fem.Constant(domain, PETSc.ScalarType(0.0))
     corner = dolfinx_mesh.locate_entities_boundary(
         domain, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], 0.0)

@@ -9,7 +9,8 @@ from dolfinx import fem
 from surface_cases import synthetic_surface
 
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
-from fabric_dolfinx.membrane3d import flat_frame, membrane3d_forms, pressure_residual
+from fabric_dolfinx.membrane import flat_frame, membrane_forms
+from fabric_dolfinx.membrane3d import pressure_residual
 from fabric_dolfinx.membrane3d_solve import Membrane3DProblem, Support
 from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
 from fabric_dolfinx.regions import Region
@@ -85,8 +86,8 @@ def test_tangent_is_the_derivative_of_the_residual(material):
     pressure the Jacobian matches central differences of the residual."""
     problem, _ = dome_state(material)
     u = problem.u
-    frame = flat_frame(u.function_space.mesh, 0.4)
-    forms = membrane3d_forms(u, material.law, frame, 2)
+    frame = flat_frame(u.function_space.mesh, 0.4, components=3)
+    forms = membrane_forms(u, material.law, frame, 2)
     derivative = ufl.derivative(forms.residual, u, ufl.TrialFunction(u.function_space))
     split = assembled(forms.residual, forms.jacobian)[1]
     full = assembled(forms.residual, derivative)[1]

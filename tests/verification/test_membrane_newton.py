@@ -52,7 +52,7 @@ def assembled(forms, u):
 def test_jacobian_matches_central_differences_of_the_residual(stretched):
     setup, result = stretched
     assert result.outside_domain
-    forms = membrane_forms(setup.u, STRESS.law, setup.angle, 2)
+    forms = membrane_forms(setup.u, STRESS.law, setup.frame, 2)
     state = setup.u.x.array.copy()
     _, jacobian = assembled(forms, setup.u)
     direction = np.random.default_rng(3).normal(size=state.size) * 0.05
@@ -81,8 +81,8 @@ def test_newton_converges_quadratically():
 
 def test_energy_surface_tangent_is_symmetric_and_stress_surface_is_not(stretched):
     setup, _ = stretched
-    energy = membrane_forms(setup.u, ENERGY.law, setup.angle, 2)
-    stress = membrane_forms(setup.u, STRESS.law, setup.angle, 2)
+    energy = membrane_forms(setup.u, ENERGY.law, setup.frame, 2)
+    stress = membrane_forms(setup.u, STRESS.law, setup.frame, 2)
     _, symmetric = assembled(energy, setup.u)
     _, general = assembled(stress, setup.u)
     assert np.abs(symmetric - symmetric.T).max() <= 1e-12 * np.abs(symmetric).max()

@@ -11,7 +11,7 @@ from mpi4py import MPI
 from surface_cases import synthetic_surface
 
 from fabric_dolfinx.material import surface_material
-from fabric_dolfinx.membrane import membrane_forms, membrane_stress
+from fabric_dolfinx.membrane import flat_frame, membrane_forms, membrane_state
 from fabric_dolfinx.mesh import plate_with_hole, rectangle_patch
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
 from fabric_dolfinx.tension import TensionSetup
@@ -37,6 +37,11 @@ def numpy_pk2(F, angle):
     return np.einsum("ik,mkl,jl->mij", R, S_local, R)
 
 
+def global_stress(state, frame):
+    """S in the mesh's axes, T S T^T (UFL (2, 2), N/mm)."""
+    return frame.tangents * state.second_piola_kirchhoff * frame.tangents.T
+
+
 class Membrane:
     """A membrane on `tagged`, with F and S at the quadrature points and one stepper."""
 
@@ -45,12 +50,14 @@ class Membrane:
         space = fem.VectorFunctionSpace(domain, ("Lagrange", 1))
         self.u = fem.Function(space)
         angle_constant = fem.Constant(domain, angle)
-        forms = membrane_forms(self.u, MATERIAL.law, angle_constant, 2)
-        state = membrane_stress(self.u, MATERIAL.law, angle_constant)
+        frame = flat_frame(domain, angle_constant)
+        forms = membrane_forms(self.u, MATERIAL.law, frame, 2)
+        S = global_stress(membrane_state(self.u, MATERIAL.law, frame), frame)
+        F = ufl.Identity(2) + ufl.grad(self.u)
         points, _ = basix.make_quadrature(basix.CellType.quadrilateral, 2)
         values = ufl.as_vector(
-            [state.deformation_gradient[i, j] for i in range(2) for j in range(2)]
-            + [state.second_piola_kirchhoff[i, j] for i in range(2) for j in range(2)]
+            [F[i, j] for i in range(2) for j in range(2)]
+            + [S[i, j] for i in range(2) for j in range(2)]
         )
         self._expression = fem.Expression(values, points)
         self._cells = np.arange(domain.topology.index_map(2).size_local, dtype=np.int32)
@@ -210,11 +217,10 @@ def test_spatially_varying_orientation_field():
     u.interpolate(lambda x: (F - np.eye(2)) @ x[:2])
     angle = fem.Function(fem.FunctionSpace(domain, ("DG", 0)))
     angle.interpolate(lambda x: np.arctan2(x[1] - 25.0, x[0] - 25.0) + np.pi / 2)
-    state = membrane_stress(u, MATERIAL.law, angle)
+    frame = flat_frame(domain, angle)
+    S = global_stress(membrane_state(u, MATERIAL.law, frame), frame)
     points, _ = basix.make_quadrature(basix.CellType.quadrilateral, 2)
-    values = ufl.as_vector(
-        [angle] + [state.second_piola_kirchhoff[i, j] for i in range(2) for j in range(2)]
-    )
+    values = ufl.as_vector([angle] + [S[i, j] for i in range(2) for j in range(2)])
     cells = np.arange(domain.topology.index_map(2).size_local, dtype=np.int32)
     table = fem.Expression(values, points).eval(cells).reshape(-1, 5)
     angles = table[:, 0]
