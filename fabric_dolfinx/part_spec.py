@@ -14,6 +14,7 @@ import numpy as np
 from rve_rod.errors import InputError, check_integer, check_positive
 
 __all__ = [
+    "AXES",
     "BOUNDARY_KINDS",
     "COMPONENTS",
     "QUADRILATERAL_TYPES",
@@ -105,6 +106,9 @@ def shape_size(spec: MeshSpec) -> float:
 
 BOUNDARY_KINDS = ("clamp", "displacement", "roller", "traction", "free")
 COMPONENTS = {"x": 0, "y": 1}
+"""The components a scene's roller may hold (a plane part's)."""
+AXES = "xyz"
+"""The displacement's components by name: x, y, and z for a part in space."""
 
 
 @dataclass(frozen=True)
@@ -114,14 +118,16 @@ class BoundaryCondition:
     Attributes:
         name: a physical curve of the mesh.
         kind: one of BOUNDARY_KINDS.
-        vector: (ux, uy) mm for `displacement`, (tx, ty) N/mm for `traction`, at t = 1.
-        component: "x" or "y", the component a `roller` holds.
-        value: the roller's displacement at t = 1 (mm).
+        vector: (ux, uy) mm for `displacement`, (tx, ty) N/mm for `traction`, at t = 1; a
+            part in space takes a third number (uz, tz), 0 when only two are given.
+        component: the components a `roller` holds, letters of AXES: "x", "y", or for a part
+            in space also "z" or several, e.g. "yz".
+        value: the roller's displacement at t = 1 (mm), of every held component.
     """
 
     name: str
     kind: str = "clamp"
-    vector: tuple[float, float] = (0.0, 0.0)
+    vector: tuple[float, ...] = (0.0, 0.0)
     component: str = "x"
     value: float = 0.0
 
@@ -131,10 +137,15 @@ class BoundaryCondition:
                 f"boundary {self.name!r}: kind={self.kind!r} is not one of "
                 f"{', '.join(BOUNDARY_KINDS)}"
             )
-        if len(self.vector) != 2 or not all(np.isfinite(self.vector)):
-            raise InputError(f"boundary {self.name!r}: vector={self.vector!r} needs 2 numbers")
-        if self.component not in COMPONENTS:
-            raise InputError(f"boundary {self.name!r}: component={self.component!r} is not x or y")
+        if len(self.vector) not in (2, 3) or not all(np.isfinite(self.vector)):
+            raise InputError(
+                f"boundary {self.name!r}: vector={self.vector!r} needs 2 numbers (3 in space)"
+            )
+        held = self.component
+        if not held or any(c not in AXES for c in held) or len(set(held)) != len(held):
+            raise InputError(
+                f"boundary {self.name!r}: component={held!r} is not x, y or z (or several once)"
+            )
 
     @property
     def dirichlet(self) -> bool:

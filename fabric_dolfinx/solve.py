@@ -312,11 +312,16 @@ class LoadStepper:
         self,
         apply_load: Callable[[float], None],
         on_step: Callable[[StepRecord], None] | None = None,
+        finish_step: Callable[[], None] | None = None,
     ) -> PathResult:
         """Follow the load path t = 0 -> 1 from the current `u` (the state at t = 0).
 
         `apply_load(t)` sets every load-dependent value (Dirichlet data, constants) for the
-        load factor t. `on_step` is called after every converged step (e.g. to write output).
+        load factor t. `finish_step` is called after every converged Newton solve, before the
+        step and its reactions are recorded, and may change `u` (a part in space releases its
+        stabilization there; the state a cutback returns to and extrapolation starts from is
+        the Newton solution). `on_step` is called after every converged step (e.g. to record
+        or write output).
         Raises ConvergenceError (history: the PathResult so far) when a step cannot be
         completed even at `min_increment`; `u` then holds the last converged state.
         """
@@ -338,6 +343,11 @@ class LoadStepper:
             iterations += attempt.iterations
             if attempt.converged:
                 count = controller.accept(trial, attempt.iterations)
+                if stepping.extrapolate:
+                    previous_state = converged_state.copy()
+                converged_state[:] = self.u.x.array
+                if finish_step is not None:
+                    finish_step()
                 now = time.perf_counter()
                 record = StepRecord(
                     load_factor=float(trial),
@@ -350,9 +360,6 @@ class LoadStepper:
                     wall_time_s=now - last,
                 )
                 last = now
-                if stepping.extrapolate:
-                    previous_state = converged_state.copy()
-                converged_state[:] = self.u.x.array
                 steps.append(record)
                 logger.info(
                     "load factor %.6g: %d Newton iterations, residual %.3g N",

@@ -1,7 +1,7 @@
 """The fabric stage: a scene's part (shape or gmsh file, regions, boundary conditions) solved.
 
 `run_fabric` meshes the part, gives each region its material (a response-surface file or
-an orthotropic SVK law), follows the load path (`fabric_dolfinx.scene_solve`) and writes
+an orthotropic SVK law), follows the load path (`fabric_dolfinx.part`) and writes
 
 - `paraview/fabric.xdmf` (+ `.h5`): displacement, Green-Lagrange strain, Cauchy stress,
   principal stresses and direction, region number, stitch value, course direction per cell;
@@ -14,8 +14,8 @@ It is collective under MPI; the pipeline runs it in-process on one rank, or as
 
     mpirun -n N python -m knitmech.fabric_job JOB.json FOLDER SUMMARY.json
 
-which rank 0 ends by writing the summary. A part in space (`[space]`) runs
-`knitmech.space_job.run_space` instead.
+which rank 0 ends by writing the summary. A part in space (`[space]`) is the same problem with
+3 components; it writes its own curves and figures (`knitmech.space_job`).
 """
 
 import json
@@ -28,14 +28,14 @@ from mpi4py import MPI
 
 from fabric_dolfinx.field_expression import FieldExpression
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
+from fabric_dolfinx.part import PartProblem, PartResult, space_solver_options
 from fabric_dolfinx.regions import Region
-from fabric_dolfinx.scene_solve import FabricProblem, SceneResult
 from fabric_dolfinx.shapes import make_mesh
 from fabric_dolfinx.solve import SolverOptions
 from knitmech.fabric_job_spec import FabricJob, RegionMaterial
 from knitmech.scene_fabric import RegionSpec
-from knitmech.space_job import run_space
-from rve_rod.errors import ConvergenceError
+from knitmech.space_job import plot_space, space_curves
+from rve_rod.errors import ConvergenceError, InputError
 from rve_rod.jsonable import to_jsonable
 from rve_rod.surface import read_surface
 
@@ -85,16 +85,21 @@ def run_fabric(job: FabricJob, folder: Path, comm=MPI.COMM_WORLD) -> dict:
         _region(spec, material, index)
         for index, (spec, material) in enumerate(zip(job.part.regions, job.materials, strict=True))
     ]
-    if job.part.space is not None:
-        return run_space(job, regions[0], folder, comm)
-    tagged = make_mesh(job.part.mesh, comm)
-    problem = FabricProblem(
+    space = job.part.space
+    graded = [r.name for r in regions if r.material is None]
+    if space is not None and graded:
+        raise InputError(f"region {graded[0]!r}: graded regions are not available in space yet")
+    tagged = make_mesh(job.part.mesh, comm, space=space is not None)
+    problem = PartProblem(
         tagged,
         regions,
         job.part.boundaries,
+        space=space,
         element_degree=job.element_degree,
-        options=SolverOptions(steps=job.steps),
-        probes=job.part.probes,
+        options=SolverOptions(steps=job.steps)
+        if space is None
+        else space_solver_options(job.steps),
+        probes=job.part.probes if space is None else None,
     )
     message = ""
     try:
@@ -103,13 +108,19 @@ def run_fabric(job: FabricJob, folder: Path, comm=MPI.COMM_WORLD) -> dict:
         result, message = error.history, str(error)
         logger.warning("fabric: %s; keeping the converged steps", message)
     summary = _summary(result, message, tagged.mesh.topology.index_map(2).size_global)
+    if space is not None:
+        summary["space"] = to_jsonable(space_curves(result, space))
     if comm.rank == 0:
-        (folder / CURVES_FILE).write_text(json.dumps(summary["boundaries"], indent=1))
-        _plot_curves(result, folder / "figures")
+        curves = summary["boundaries"] if space is None else summary["space"]
+        (folder / CURVES_FILE).write_text(json.dumps(curves, indent=1))
+        if space is None:
+            _plot_curves(result, folder / "figures")
+        else:
+            plot_space(summary["space"], folder / "figures")
     return summary
 
 
-def _summary(result: SceneResult, message: str, cells: int) -> dict:
+def _summary(result: PartResult, message: str, cells: int) -> dict:
     return to_jsonable(
         {
             "complete": not message,
@@ -128,7 +139,7 @@ def _summary(result: SceneResult, message: str, cells: int) -> dict:
     )
 
 
-def _plot_curves(result: SceneResult, folder: Path) -> None:
+def _plot_curves(result: PartResult, folder: Path) -> None:
     import matplotlib.pyplot as plt  # noqa: PLC0415 (matplotlib on demand)
 
     for name, curve in result.boundaries.items():

@@ -11,9 +11,9 @@ from mpi4py import MPI
 
 from fabric_dolfinx.field_expression import FieldExpression
 from fabric_dolfinx.material import OrthotropicSVK, svk_material
+from fabric_dolfinx.part import PartProblem
 from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
 from fabric_dolfinx.regions import Region
-from fabric_dolfinx.scene_solve import FabricProblem
 from fabric_dolfinx.shapes import make_mesh
 from fabric_dolfinx.solve import SolverOptions
 from rve_rod.jsonable import to_jsonable
@@ -34,7 +34,7 @@ conditions = [
     BoundaryCondition("top", "roller", component="y"),
     BoundaryCondition("hole", "free"),
 ]
-result = FabricProblem(tagged, regions, conditions, options=SolverOptions(steps=3)).run()
+result = PartProblem(tagged, regions, conditions, options=SolverOptions(steps=3)).run()
 if MPI.COMM_WORLD.rank == 0:
     curves = {name: curve._asdict() for name, curve in result.boundaries.items()}
     print(

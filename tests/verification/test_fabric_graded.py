@@ -16,9 +16,9 @@ import scipy.optimize
 from fabric_dolfinx.field_expression import FieldExpression
 from fabric_dolfinx.graded import hat_weights
 from fabric_dolfinx.material import OrthotropicSVK, svk_material
+from fabric_dolfinx.part import PartProblem
 from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
 from fabric_dolfinx.regions import Region
-from fabric_dolfinx.scene_solve import FabricProblem
 from fabric_dolfinx.shapes import make_mesh
 from fabric_dolfinx.solve import SolverOptions
 from rve_rod.errors import InputError
@@ -36,7 +36,7 @@ def run_strip(region, traction=(TRACTION, 0.0), shear=0.0):
         BoundaryCondition("bottom", "roller", component="y"),
         BoundaryCondition("right", "traction", vector=(traction[0], shear)),
     ]
-    problem = FabricProblem(make_mesh(STRIP), [region], conditions, options=SolverOptions(steps=2))
+    problem = PartProblem(make_mesh(STRIP), [region], conditions, options=SolverOptions(steps=2))
     return problem.run()
 
 

@@ -20,10 +20,11 @@ import pytest
 import scipy.optimize
 
 from fabric_dolfinx.field_expression import FieldExpression
+from fabric_dolfinx.fields import PartFields, principal_stresses
 from fabric_dolfinx.material import OrthotropicSVK, svk_material
+from fabric_dolfinx.part import PartProblem
 from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
 from fabric_dolfinx.regions import Region
-from fabric_dolfinx.scene_solve import FabricProblem, SceneFields, principal_stresses
 from fabric_dolfinx.shapes import make_mesh
 from fabric_dolfinx.solve import SolverOptions
 from rve_rod.errors import InputError
@@ -46,7 +47,7 @@ def strip_problem(regions, traction=(0.05, 0.0)):
         BoundaryCondition("bottom", "roller", component="y"),
         BoundaryCondition("right", "traction", vector=traction),
     ]
-    return FabricProblem(make_mesh(STRIP), regions, conditions, options=SolverOptions(steps=2))
+    return PartProblem(make_mesh(STRIP), regions, conditions, options=SolverOptions(steps=2))
 
 
 def test_two_regions_in_series_elongate_like_two_springs():
@@ -73,7 +74,7 @@ def test_course_direction_field_rotates_a_homogeneous_state_cell_by_cell():
     problem = strip_problem([Region("fabric", svk_material(material), angle=angle)])
     gradient = np.array([[0.08, 0.03], [-0.02, 0.05]])  # H, u = H X
     problem.u.interpolate(lambda X: gradient @ X[:2])
-    fields = SceneFields(problem)
+    fields = PartFields(problem)
     fields.update()
     owned = problem.tagged.mesh.topology.index_map(2).size_local
     centres = problem.cells.centres[:owned]
@@ -123,17 +124,17 @@ def test_overlapping_and_unknown_boundary_conditions_are_refused():
     tagged = make_mesh(STRIP)
     twice = [BoundaryCondition("left"), BoundaryCondition("left", "roller")]
     with pytest.raises(InputError, match="overlap: left given twice"):
-        FabricProblem(tagged, regions, twice)
+        PartProblem(tagged, regions, twice)
     with pytest.raises(InputError, match=r"'side' is not a physical curve.*bottom, left, right"):
-        FabricProblem(tagged, regions, [BoundaryCondition("side")])
+        PartProblem(tagged, regions, [BoundaryCondition("side")])
     with pytest.raises(InputError, match=r"'core' is not a physical surface.*regions: fabric"):
-        FabricProblem(tagged, [Region("core", svk_material(SOFT))], [BoundaryCondition("left")])
+        PartProblem(tagged, [Region("core", svk_material(SOFT))], [BoundaryCondition("left")])
     empty = [*regions, Region("none", svk_material(SOFT), where=FieldExpression("x > 500"))]
     with pytest.raises(InputError, match="none hold no cell"):
-        FabricProblem(tagged, empty, [BoundaryCondition("left")])
+        PartProblem(tagged, empty, [BoundaryCondition("left")])
     part = [Region("half", svk_material(SOFT), where=FieldExpression("x < 50"))]
     with pytest.raises(InputError, match="10 cells belong to no region"):
-        FabricProblem(tagged, part, [BoundaryCondition("left")])
+        PartProblem(tagged, part, [BoundaryCondition("left")])
 
 
 def test_overlapping_physical_curves_are_refused(tmp_path):

@@ -7,11 +7,14 @@ import pytest
 import scipy.integrate
 import scipy.optimize
 
+from fabric_dolfinx.fields import PartFields
 from fabric_dolfinx.material import OrthotropicSVK, svk_material
-from fabric_dolfinx.membrane3d_solve import Membrane3DFields, Membrane3DProblem, Support
-from fabric_dolfinx.part_spec import MeshSpec
+from fabric_dolfinx.part import PartProblem
+from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
+from fabric_dolfinx.regions import Region
 from fabric_dolfinx.shapes import make_mesh
 from fabric_dolfinx.solve import SolverOptions
+from fabric_dolfinx.space_spec import SpaceSpec
 
 STIFFNESS, POISSON, RADIUS, PRESSURE = 10.0, 0.3, 50.0, 2e-6  # N/mm, -, mm, N/mm^2
 LOAD = PRESSURE * RADIUS / STIFFNESS  # Q = q a / (E h): strains ~ Q^(2/3) = 1e-4
@@ -68,11 +71,11 @@ def test_series_matches_the_published_constants():
 def solve(size):
     tagged = make_mesh(MeshSpec("disc", {"radius": RADIUS}, element_size=size))
     svk = OrthotropicSVK(STIFFNESS, STIFFNESS, POISSON, STIFFNESS / (2 * (1 + POISSON)))
-    problem = Membrane3DProblem(
+    problem = PartProblem(
         tagged,
-        svk_material(svk),
-        [Support("rim")],
-        pressure=PRESSURE,
+        [Region("fabric", svk_material(svk))],
+        [BoundaryCondition("rim")],
+        space=SpaceSpec(pressure=PRESSURE),
         options=SolverOptions(steps=1),
     )
     result = problem.run()
@@ -92,7 +95,9 @@ def test_central_deflection_converges_to_hencky_at_second_order(meshes):
         centre = np.argmin(
             np.linalg.norm(problem.u.function_space.tabulate_dof_coordinates(), axis=1)
         )
-        assert result.peak_displacement[-1] == pytest.approx(displacement[centre, 2], rel=1e-12)
+        assert result.space.peak_displacement[-1] == pytest.approx(
+            displacement[centre, 2], rel=1e-12
+        )
         errors.append(abs(displacement[centre, 2] - expected) / expected)
     rates = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
     assert np.all(rates > 1.6), (errors, rates)
@@ -101,7 +106,7 @@ def test_central_deflection_converges_to_hencky_at_second_order(meshes):
 
 def test_radial_stress_follows_hencky(meshes):
     problem, result = meshes[2.5]
-    fields = Membrane3DFields(problem)
+    fields = PartFields(problem)
     fields.update()
     mesh = problem.tagged.mesh
     cells = mesh.topology.index_map(2).size_local
@@ -116,4 +121,7 @@ def test_radial_stress_follows_hencky(meshes):
     expected = hencky_radial_stress(radius[keep] / RADIUS)
     assert np.abs(radial - expected).max() < 0.02 * expected.max()
     assert np.all(fields.slack.x.array == 0.0)
-    assert (result.wrinkled_area[-1], result.slack_area[-1]) == (0.0, 0.0)  # taut everywhere
+    assert (result.space.wrinkled_area[-1], result.space.slack_area[-1]) == (
+        0.0,
+        0.0,
+    )  # taut everywhere

@@ -11,12 +11,12 @@ from surface_cases import synthetic_surface
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
 from fabric_dolfinx.membrane import flat_frame, membrane_forms
 from fabric_dolfinx.membrane3d import pressure_residual
-from fabric_dolfinx.membrane3d_solve import Membrane3DProblem, Support
+from fabric_dolfinx.part import PartProblem
 from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
 from fabric_dolfinx.regions import Region
-from fabric_dolfinx.scene_solve import FabricProblem
 from fabric_dolfinx.shapes import make_mesh
 from fabric_dolfinx.solve import SolverOptions
+from fabric_dolfinx.space_spec import SpaceSpec
 
 SURFACE = surface_material(synthetic_surface())
 SVK = svk_material(OrthotropicSVK(1.0, 0.5, 0.3, 0.2))
@@ -28,21 +28,12 @@ def test_in_plane_loading_equals_the_plane_membrane(material):
     reactions and displacements of the plane membrane, with z staying exactly 0."""
     tagged = make_mesh(MeshSpec("plate_with_hole", {"radius": 8.0}, element_size=8.0))
     options = SolverOptions(steps=3)
-    angle = np.radians(30.0)
-    plane = FabricProblem(
-        tagged,
-        [Region("fabric", material, angle=30.0)],
-        [BoundaryCondition("left", "clamp"), BoundaryCondition("right", "displacement", (5, 1))],
-        options=options,
-    )
+    regions = [Region("fabric", material, angle=30.0)]
+    conditions = [BoundaryCondition("left"), BoundaryCondition("right", "displacement", (5, 1))]
+    plane = PartProblem(tagged, regions, conditions, options=options)
     expected = plane.run()
-    space = Membrane3DProblem(
-        tagged,
-        material,
-        [Support("left"), Support("right", displacement=(5.0, 1.0, 0.0))],
-        angle=angle,
-        stabilization=1e-3,
-        options=options,
+    space = PartProblem(
+        tagged, regions, conditions, space=SpaceSpec(stabilization=1e-3), options=options
     )
     result = space.run()
     displacement = space.u.x.array.reshape(-1, 3)
@@ -54,20 +45,24 @@ def test_in_plane_loading_equals_the_plane_membrane(material):
         atol=1e-12 * np.abs(plane.u.x.array).max(),
     )
     for name in ("left", "right"):
-        force = result.reactions[name]
+        force = result.boundaries[name].force
         assert np.all(force[:, 2] == 0.0)
         np.testing.assert_allclose(
             force[:, :2], expected.boundaries[name].force, rtol=1e-10, atol=1e-12
         )
-    assert np.all(result.stabilization_force == 0.0)
+    assert np.all(result.space.stabilization_force == 0.0)
     assert expected.boundaries["right"].force[-1, 0] > 0.3
 
 
 def dome_state(material):
     """A disc clamped at its rim under pressure, and its converged state (a tension field)."""
     tagged = make_mesh(MeshSpec("disc", {"radius": 20.0}, element_size=5.0))
-    problem = Membrane3DProblem(
-        tagged, material, [Support("rim")], angle=0.4, pressure=2e-3, options=SolverOptions(steps=1)
+    problem = PartProblem(
+        tagged,
+        [Region("fabric", material, angle=np.degrees(0.4))],
+        [BoundaryCondition("rim")],
+        space=SpaceSpec(pressure=2e-3),
+        options=SolverOptions(steps=1),
     )
     return problem, problem.run()
 
@@ -114,7 +109,7 @@ def test_tangent_is_the_derivative_of_the_residual(material):
 def test_newton_converges_quadratically_from_the_dome():
     """One pressure step from the flat disc: after the one-mode dome, e_(k+1) <= C e_k^2."""
     _, result = dome_state(SURFACE)
-    assert result.dome_amplitude > 0.0
+    assert result.space.dome_amplitude > 0.0
     norms = np.array(result.path.steps[0].residual_norms)
     relative = norms / norms[0]
     assert relative[-1] < 1e-10
@@ -138,16 +133,17 @@ def test_the_wrinkled_and_slack_areas(moved, held, wrinkled, slack):
     are negative everywhere (slack); sheared, the principal stresses are about +-tau in
     every cell (wrinkled). The unloaded state is slack everywhere."""
     tagged = make_mesh(MeshSpec("rectangle", {"width": 10.0, "height": 10.0}, element_size=2.5))
-    supports = [Support("left"), Support("right", displacement=moved)]
-    supports += [Support(name, "yz") for name in held]
-    problem = Membrane3DProblem(
+    conditions = [BoundaryCondition("left"), BoundaryCondition("right", "displacement", moved)]
+    conditions += [BoundaryCondition(name, "roller", component="yz") for name in held]
+    problem = PartProblem(
         tagged,
-        svk_material(OrthotropicSVK(1.0, 1.0, 0.3, 1.0 / 2.6)),
-        supports,
-        stabilization=1e-3,
+        [Region("fabric", svk_material(OrthotropicSVK(1.0, 1.0, 0.3, 1.0 / 2.6)))],
+        conditions,
+        space=SpaceSpec(stabilization=1e-3),
         options=SolverOptions(steps=1),
     )
     result = problem.run()
-    assert (result.wrinkled_area[0], result.slack_area[0]) == (0.0, 1.0)
-    assert result.wrinkled_area[-1] == pytest.approx(wrinkled, abs=1e-12)
-    assert result.slack_area[-1] == pytest.approx(slack, abs=1e-12)
+    curves = result.space
+    assert (curves.wrinkled_area[0], curves.slack_area[0]) == (0.0, 1.0)
+    assert curves.wrinkled_area[-1] == pytest.approx(wrinkled, abs=1e-12)
+    assert curves.slack_area[-1] == pytest.approx(slack, abs=1e-12)

@@ -17,10 +17,12 @@ from dolfinx import fem
 
 from fabric_dolfinx.material import OrthotropicSVK, svk_material
 from fabric_dolfinx.membrane3d import PlaneIndenter
-from fabric_dolfinx.membrane3d_solve import Membrane3DProblem, Support
-from fabric_dolfinx.part_spec import MeshSpec
+from fabric_dolfinx.part import PartProblem
+from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
+from fabric_dolfinx.regions import Region
 from fabric_dolfinx.shapes import make_mesh
 from fabric_dolfinx.solve import SolverOptions
+from fabric_dolfinx.space_spec import IndenterSpec, SpaceSpec
 from rve_rod.errors import InputError
 
 RADIUS, PRESSURE, HEIGHT = 10.0, 1e-3, 2.0  # mm, N/mm^2, mm: the plane's start above the disc
@@ -29,16 +31,21 @@ SVK = svk_material(OrthotropicSVK(10.0, 10.0, 0.3, 10.0 / 2.6))
 
 def flatten(tagged, penalty):
     """The load path of the plane coming down from HEIGHT to 0 in 8 steps under PRESSURE."""
-    plane = PlaneIndenter((0.0, 0.0, HEIGHT), (0.0, 0.0, -1.0), (0.0, 0.0, -HEIGHT), penalty)
-    problem = Membrane3DProblem(
-        tagged,
-        SVK,
-        [Support("rim")],
-        pressure=PRESSURE,
-        indenter=plane,
-        options=SolverOptions(steps=8),
+    plane = IndenterSpec(
+        (0.0, 0.0, -HEIGHT),
+        "plane",
+        point=(0.0, 0.0, HEIGHT),
+        normal=(0.0, 0.0, -1.0),
+        penalty=penalty,
     )
-    return problem.run()
+    return disc(tagged, SpaceSpec(pressure=PRESSURE, indenter=plane), SolverOptions(steps=8)).run()
+
+
+def disc(tagged, space, options=None):
+    """The disc clamped at its rim, in space as `space` says."""
+    return PartProblem(
+        tagged, [Region("fabric", SVK)], [BoundaryCondition("rim")], space=space, options=options
+    )
 
 
 @pytest.fixture(scope="module")
@@ -53,12 +60,12 @@ def test_the_plane_carries_the_pressure_of_the_flattened_disc(coarse):
         area = tagged.mesh.comm.allreduce(
             fem.assemble_scalar(fem.form(1.0 * ufl.dx(domain=tagged.mesh)))
         )
-        plane, clamp = result.indenter_force[-1], result.reactions["rim"][-1]
+        plane, clamp = result.space.indenter_force[-1], result.boundaries["rim"].force[-1]
         # the fabric's balance: the plane and the clamp (the force the fabric receives there)
         # hold p times the projected area
         np.testing.assert_allclose(plane - clamp, [0.0, 0.0, PRESSURE * area], atol=1e-9)
         # flat on the plane: within twice the penalty's penetration p/k of it (1.33 p/k)
-        assert result.peak_displacement[-1] < 2.0 * PRESSURE / 10.0
+        assert result.space.peak_displacement[-1] < 2.0 * PRESSURE / 10.0
         forces.append(plane[2])
     exact = PRESSURE * np.pi * RADIUS**2
     # measured 0.27184, 0.29251 N (0.30325 N at 0.5 mm): errors 13.5 %, 6.9 % (3.5 %)
@@ -70,7 +77,7 @@ def test_the_plane_carries_the_pressure_of_the_flattened_disc(coarse):
 def test_the_force_of_partial_contact_converges_with_the_penalty(coarse):
     results = [flatten(coarse, k) for k in (10.0, 100.0, 1000.0)]
     # steps 6-8: the plane at 0.5, 0.25, 0 mm presses the dome (free: 0.6 mm)
-    forces = np.array([r.indenter_force[6:, 2] for r in results])
+    forces = np.array([r.space.indenter_force[6:, 2] for r in results])
     assert np.all(forces > 0.0)
     changes = np.abs(np.diff(forces, axis=0)) / forces[-1]
     # measured at step 6: 0.23 %, 0.029 % (error ~ 1/k); from k = 100 on below 0.1 %
@@ -79,8 +86,10 @@ def test_the_force_of_partial_contact_converges_with_the_penalty(coarse):
 
 
 def test_a_plane_starting_inside_the_fabric_is_refused(coarse):
-    plane = PlaneIndenter((0.0, 0.0, -0.1), (0.0, 0.0, -1.0), (0.0, 0.0, 1.0), 10.0)
+    plane = IndenterSpec(
+        (0.0, 0.0, 1.0), "plane", point=(0.0, 0.0, -0.1), normal=(0.0, 0.0, -1.0), penalty=10.0
+    )
     with pytest.raises(InputError, match=r"plane .* starts inside the fabric"):
-        Membrane3DProblem(coarse, SVK, [Support("rim")], indenter=plane)
+        disc(coarse, SpaceSpec(indenter=plane))
     with pytest.raises(InputError, match="normal"):
         PlaneIndenter((0.0, 0.0, 1.0), (0.0, 0.0, 0.0), (0.0, 0.0, -1.0), 10.0)

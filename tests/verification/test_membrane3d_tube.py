@@ -13,10 +13,14 @@ import numpy as np
 import pytest
 import scipy.optimize
 
+from fabric_dolfinx.fields import PartFields
 from fabric_dolfinx.material import OrthotropicSVK, svk_material
-from fabric_dolfinx.membrane3d_solve import EdgeLoad, Membrane3DFields, Membrane3DProblem, Support
+from fabric_dolfinx.part import PartProblem
+from fabric_dolfinx.part_spec import BoundaryCondition
+from fabric_dolfinx.regions import Region
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.surfaces3d import axis_fields, tube_mesh
+from fabric_dolfinx.space_spec import SpaceSpec
+from fabric_dolfinx.surfaces3d import tube_mesh
 
 RADIUS, LENGTH, PRESSURE, SIZE = 10.0, 20.0, 0.01, 2.5  # mm, mm, N/mm^2, mm
 SVK = OrthotropicSVK(
@@ -30,16 +34,17 @@ def quarter_tube(comm=None):
     """A quadrant with symmetry conditions; the closed end's axial force p pi R^2 as the dead
     load p R / 2 per length on the top edge."""
     kwargs = {} if comm is None else {"comm": comm}
-    course, side = axis_fields("around")
     tagged = tube_mesh(RADIUS, LENGTH, SIZE, quarter=True, **kwargs)
-    return Membrane3DProblem(
+    return PartProblem(
         tagged,
-        svk_material(SVK),
-        [Support("bottom", "z"), Support("x0", "x"), Support("y0", "y")],
-        course=course,
-        side=side,
-        pressure=PRESSURE,
-        edge_loads=[EdgeLoad("top", (0.0, 0.0, PRESSURE * RADIUS / 2))],
+        [Region("fabric", svk_material(SVK))],
+        [
+            BoundaryCondition("bottom", "roller", component="z"),
+            BoundaryCondition("x0", "roller", component="x"),
+            BoundaryCondition("y0", "roller", component="y"),
+            BoundaryCondition("top", "traction", (0.0, 0.0, PRESSURE * RADIUS / 2)),
+        ],
+        space=SpaceSpec(pressure=PRESSURE, course="around"),
         options=SolverOptions(steps=2),
     )
 
@@ -68,7 +73,7 @@ def inflated():
 
 def test_membrane_forces_are_hoop_p_r_and_axial_p_r_over_two(inflated):
     problem, result = inflated
-    fields = Membrane3DFields(problem)
+    fields = PartFields(problem)
     fields.update()
     points = problem.u.function_space.tabulate_dof_coordinates()
     deformed = points + problem.u.x.array.reshape(-1, 3)
@@ -92,7 +97,7 @@ def test_membrane_forces_are_hoop_p_r_and_axial_p_r_over_two(inflated):
     # (p pi R^2 / 4 in the limit)
     chords = 2 * AROUND * RADIUS * math.sin(0.25 * math.pi / AROUND)
     end_load = PRESSURE * RADIUS / 2 * chords
-    assert -result.reactions["bottom"][-1, 2] == pytest.approx(end_load, rel=1e-10)
+    assert -result.boundaries["bottom"].force[-1, 2] == pytest.approx(end_load, rel=1e-10)
     assert end_load == pytest.approx(PRESSURE * math.pi * RADIUS**2 / 4, rel=0.01)
 
 
@@ -104,8 +109,8 @@ from test_membrane3d_tube import quarter_tube
 problem = quarter_tube(MPI.COMM_WORLD)
 result = problem.run()
 if MPI.COMM_WORLD.rank == 0:
-    print(json.dumps({{"ranks": result.ranks, "bottom": result.reactions["bottom"].tolist(),
-                      "peak": result.peak_displacement.tolist()}}))
+    print(json.dumps({{"ranks": result.ranks, "bottom": result.boundaries["bottom"].force.tolist(),
+                      "peak": result.space.peak_displacement.tolist()}}))
 """
 
 
