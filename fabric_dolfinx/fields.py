@@ -9,6 +9,8 @@ space (3 x 3), the principal stresses and the direction of the largest in space,
 slack/wrinkle indicator (0 taut, 1 wrinkled, 2 slack).
 """
 
+from collections.abc import Sequence
+
 import numpy as np
 import ufl
 from dolfinx import fem
@@ -77,10 +79,16 @@ class PartFields:
         region: region number; stitch: stitch value (0 where none);
         course_direction: degrees from the x axis.
         cell_dofs: (local cells,) the DG0 dof of each cell.
+
+    Args:
+        problem: the PartProblem.
+        written: the names of the attributes `write` writes (default every field of the
+            part's kind, as in the module docstring).
     """
 
-    def __init__(self, problem):
+    def __init__(self, problem, written: Sequence[str] | None = None):
         mesh = problem.tagged.mesh
+        self._written = tuple(written) if written is not None else None
         u = problem.u
         self.components = components = problem.components
         plane = fem.TensorFunctionSpace(mesh, ("DG", 0), shape=(2, 2))
@@ -171,7 +179,9 @@ class PartFields:
         return function.x.array.reshape(-1, n, n)[self.cell_dofs[: self._owned], i, j].copy()
 
     def functions(self) -> tuple[fem.Function, ...]:
-        """Every field the part's kind writes, in the order they are written."""
+        """The fields written (`written`, or every field of the part's kind), in order."""
+        if self._written is not None:
+            return tuple(getattr(self, name) for name in self._written)
         if self.components == 3:
             fields = (self.strain, self.stress, self.cauchy)
             return (self.displacement, *fields, *self._principal(), self.slack)

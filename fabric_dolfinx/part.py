@@ -58,10 +58,16 @@ from fabric_dolfinx.mesh import TaggedMesh
 from fabric_dolfinx.part_spec import BoundaryCondition
 from fabric_dolfinx.probes import CellProbe
 from fabric_dolfinx.regions import Region, assign_regions, cell_field
-from fabric_dolfinx.solve import LoadStepper, PathResult, SolverOptions, boundary_indicator
+from fabric_dolfinx.solve import (
+    LoadStepper,
+    PathResult,
+    SolverOptions,
+    boundary_indicator,
+    with_history,
+)
 from fabric_dolfinx.space_spec import IndenterSpec, SpaceSpec
 from fabric_dolfinx.surfaces3d import axis_fields
-from rve_rod.errors import ConvergenceError, InputError, check_integer
+from rve_rod.errors import InputError, check_integer
 
 __all__ = [
     "BoundaryCurve",
@@ -451,15 +457,21 @@ class PartProblem:
         on_step: Callable[[float, PartFields | None], None] | None = None,
         fields: bool = False,
         observers: Mapping[str, Observer] | None = None,
+        *,
+        label: Callable[[float], float] | None = None,
+        written: Sequence[str] | None = None,
     ) -> PartResult:
         """Follow the load path t = 0 -> 1 from the unloaded part.
 
         Args:
-            xdmf: write the PartFields of every step to this XDMF file (time = t).
-            on_step: called after every converged step with (t, PartFields or None).
+            xdmf: write the PartFields of every step to this XDMF file (time: the label).
+            on_step: called after every converged step with (label, PartFields or None).
             fields: evaluate the cell fields after every step even without xdmf.
             observers: name -> a measurement of the state, recorded in
                 `PartResult.observed` (the fields are up to date when it is called).
+            label: t -> the label of a state in the output, the warnings and `on_step`
+                (e.g. a nominal strain); default t.
+            written: the names of the PartFields written to XDMF; default all of the kind's.
 
         Raises ConvergenceError whose `history` is the PartResult of the converged steps
         (the XDMF file then holds them and is closed).
@@ -468,7 +480,8 @@ class PartProblem:
         self.previous.x.array[:] = 0.0
         self.set_load_factor(0.0)
         wanted = xdmf or fields or self.probes is not None or self.components == 3
-        cell_fields = PartFields(self) if wanted else None
+        cell_fields = PartFields(self, written) if wanted else None
+        label = label or float
         checks = self._range_checks()
         outside = {region.name: False for region in self.regions}
         measure = {**self._observers(cell_fields), **dict(observers or {})}
@@ -480,20 +493,20 @@ class PartProblem:
             if cell_fields is not None:
                 cell_fields.update()
                 if output is not None:
-                    cell_fields.write(output, load_factor)
+                    cell_fields.write(output, label(load_factor))
             load_factors.append(load_factor)
             for name, observer in measure.items():
                 history[name].append(observer())
 
         def after_step(step, output: XDMFFile | None) -> None:
             for name, check in checks.items():
-                outside[name] = check(step.load_factor) or outside[name]
+                outside[name] = check(label(step.load_factor)) or outside[name]
             record(step.load_factor, output)
             self.previous.x.array[:] = self.u.x.array
             if on_step is not None:
-                on_step(step.load_factor, cell_fields)
+                on_step(label(step.load_factor), cell_fields)
 
-        def solve(output: XDMFFile | None) -> PathResult:
+        def follow(output: XDMFFile | None) -> PathResult:
             record(0.0, output)
             return self.stepper.run(
                 self.set_load_factor,
@@ -501,21 +514,17 @@ class PartProblem:
                 finish_step=self.release_stabilization,
             )
 
+        def solve() -> PathResult:
+            if xdmf is None:
+                return follow(None)
+            with XDMFFile(self.tagged.mesh.comm, str(xdmf), "w") as output:
+                output.write_mesh(self.tagged.mesh)
+                return follow(output)
+
         def result(path: PathResult) -> PartResult:
             return self._result(path, load_factors, history, outside, time.perf_counter() - start)
 
-        try:
-            if xdmf is not None:
-                with XDMFFile(self.tagged.mesh.comm, str(xdmf), "w") as output:
-                    output.write_mesh(self.tagged.mesh)
-                    path = solve(output)
-            else:
-                path = solve(None)
-        except ConvergenceError as error:
-            raise ConvergenceError(
-                str(error), last_converged=error.last_converged, history=result(error.history)
-            ) from None
-        return result(path)
+        return with_history(solve, result)
 
     def _result(
         self, path: PathResult, load_factors, history, outside, wall_time: float

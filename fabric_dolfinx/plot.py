@@ -11,7 +11,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.collections import PolyCollection
 
-from fabric_dolfinx.io import CellFields, RVECurve
+from fabric_dolfinx.fields import PartFields
+from fabric_dolfinx.io import RVECurve
 
 __all__ = [
     "plot_cell_field",
@@ -59,7 +60,7 @@ def plot_force_strain(
     plt.close(figure)
 
 
-def _deformed_cells(fields: CellFields) -> np.ndarray:
+def _deformed_cells(fields: PartFields) -> np.ndarray:
     """Corners (owned cells, 4, 2) of the local cells in the deformed configuration (mm)."""
     displacement = fields.displacement
     space = displacement.function_space
@@ -71,7 +72,7 @@ def _deformed_cells(fields: CellFields) -> np.ndarray:
 
 
 def plot_cell_field(
-    fields: CellFields,
+    fields: PartFields,
     path: Path | str,
     field: str = "cauchy",
     component: tuple[int, int] = (0, 0),
@@ -80,7 +81,7 @@ def plot_cell_field(
     """One component of a cell field (DG0) on the deformed mesh, like the paper's Figure 8.
 
     Args:
-        fields: up-to-date CellFields (call `update()` first).
+        fields: up-to-date PartFields of a plane part (call `update()` first).
         field: "cauchy" (N/mm) or "strain" (-).
         component: tensor indices, e.g. (0, 0) for sigma_xx.
     """

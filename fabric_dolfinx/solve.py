@@ -22,7 +22,7 @@ import math
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import dolfinx.fem.petsc
 import numpy as np
@@ -50,6 +50,7 @@ __all__ = [
     "SolverOptions",
     "StepRecord",
     "boundary_indicator",
+    "with_history",
 ]
 
 logger = logging.getLogger(__name__)
@@ -394,6 +395,19 @@ class LoadStepper:
         return PathResult(
             tuple(steps), iterations, controller.total_cutbacks, time.perf_counter() - start
         )
+
+
+def with_history(solve: Callable[[], Any], result: Callable[[Any], Any]) -> Any:
+    """`result(solve())`; when `solve` raises ConvergenceError, the same error with its
+    history (the record of the converged steps, of solve's type) made a `result` too, so
+    that every caller gets the partial result in its own type."""
+    try:
+        solved = solve()
+    except ConvergenceError as error:
+        raise ConvergenceError(
+            str(error), last_converged=error.last_converged, history=result(error.history)
+        ) from None
+    return result(solved)
 
 
 def _converged(norms: list[float], tolerance: float, floor_tolerance: float) -> bool:

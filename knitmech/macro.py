@@ -4,7 +4,8 @@
 (`paraview/patch_<direction>.xdmf` with its `.h5`) and the stress map of the paper's
 Figure 8 (`figures/stress_<direction>.png`), and measures the patch's lateral contraction
 across its middle (the effective Poisson ratio of the clamped patch) and the strains of a gauge
-at its centre, as a video extensometer does in a tensile test (`PatchProbe`). It is collective under
+at its centre, as a video extensometer does in a tensile test (`PatchProbe`, an observer of the
+load path). It is collective under
 MPI; the pipeline runs it in-process on one rank, or as
 
     mpirun -n N python -m knitmech.macro PATCH.json SURFACE.h5 FOLDER SUMMARY.json
@@ -20,11 +21,12 @@ import sys
 from pathlib import Path
 
 import numpy as np
-from dolfinx import fem, geometry
+from dolfinx import fem
 from mpi4py import MPI
 
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.plot import plot_cell_field
+from fabric_dolfinx.probes import PointProbe
 from fabric_dolfinx.solve import SolverOptions
 from fabric_dolfinx.tension import TensionSetup
 from fabric_dolfinx.tension_spec import DIRECTIONS
@@ -36,7 +38,6 @@ from rve_rod.units import n_per_mm_to_gf_per_cm
 __all__ = [
     "GAUGE_FRACTION",
     "STRESS_COMPONENT",
-    "DisplacementProbe",
     "PatchProbe",
     "main",
     "run_patch",
@@ -53,35 +54,9 @@ GAUGE_FRACTION = 0.2
 follows at the sample's centre (the tests' Poisson ratios), 10 mm on the 50 mm patch."""
 
 
-class DisplacementProbe:
-    """The displacement at fixed points of the patch, on every rank (collective): each rank
-    evaluates the points its cells hold and all ranks share the values."""
-
-    def __init__(self, u: fem.Function, points: np.ndarray):
-        mesh = u.function_space.mesh
-        tree = geometry.BoundingBoxTree(mesh, mesh.topology.dim)
-        candidates = geometry.compute_collisions(tree, points)
-        colliding = geometry.compute_colliding_cells(mesh, candidates, points)
-        self.cells = [
-            colliding.links(i)[0] if len(colliding.links(i)) else -1 for i in range(len(points))
-        ]
-        self.points = points
-        self.u = u
-
-    def __call__(self) -> np.ndarray:
-        """The displacement (mm) at the points, shape (points, 2)."""
-        local = [
-            self.u.eval(point, [cell])[:2].tolist() if cell >= 0 else None
-            for point, cell in zip(self.points, self.cells, strict=True)
-        ]
-        gathered = self.u.function_space.mesh.comm.allgather(local)
-        return np.array(
-            [next(rank[i] for rank in gathered if rank[i] is not None) for i in range(len(local))]
-        )
-
-
 class PatchProbe:
-    """The patch's strains as a tensile test measures them, at the current displacement:
+    """The patch's strains as a tensile test measures them, at the current displacement (an
+    observer of `TensionSetup.run`):
 
     - `lateral`: the change of distance between the midpoints of the two free edges over the
       patch size (the width change across the middle, clamps included);
@@ -94,15 +69,13 @@ class PatchProbe:
         self.lateral_axis = 1 - self.load_axis
         self.size = size
         self.gauge_length = GAUGE_FRACTION * size
-        centre = np.full(3, size / 2)
-        centre[2] = 0.0
-        points = np.tile(centre, (6, 1))
+        points = np.full((6, 2), size / 2)
         points[0, self.lateral_axis] = 0.0
         points[1, self.lateral_axis] = size
         marks = [(axis, sign) for axis in (self.load_axis, self.lateral_axis) for sign in (-1, 1)]
         for row, (axis, sign) in enumerate(marks, start=2):
             points[row, axis] += sign * self.gauge_length / 2
-        self.probe = DisplacementProbe(u, points)
+        self.probe = PointProbe(u, points)
 
     def __call__(self) -> tuple[float, float, float]:
         """(lateral strain across the middle, gauge axial strain, gauge lateral strain) (-)."""
@@ -133,11 +106,9 @@ def run_patch(job: PatchJob, surface_path: Path, folder: Path, comm=MPI.COMM_WOR
     material = surface_material(surface, name=Path(surface_path).name)
     setup = TensionSetup(material, test, SolverOptions(steps=job.steps), comm)
     probe = PatchProbe(setup.u, test.size, test.direction)
-    measured = [(0.0, 0.0, 0.0)]
     field_strain = job.field_strain
 
     def on_step(strain, fields):
-        measured.append(probe())
         if abs(strain - field_strain) < 1e-9:
             plot_cell_field(
                 fields,
@@ -149,7 +120,9 @@ def run_patch(job: PatchJob, surface_path: Path, folder: Path, comm=MPI.COMM_WOR
     message = ""
     try:
         result = setup.run(
-            xdmf=folder / "paraview" / f"patch_{test.direction}.xdmf", on_step=on_step
+            xdmf=folder / "paraview" / f"patch_{test.direction}.xdmf",
+            on_step=on_step,
+            observers={"gauge": probe},
         )
     except ConvergenceError as error:
         result, message = error.history, str(error)
@@ -163,7 +136,7 @@ def run_patch(job: PatchJob, surface_path: Path, folder: Path, comm=MPI.COMM_WOR
             strain[1:][np.argmax(pulled <= 0.0)],
         )
     alone = [0.0] + [_material_alone(surface, value, test.direction) for value in strain[1:]]
-    lateral_strain, gauge_strain, gauge_lateral = np.array(measured[: strain.size]).T
+    lateral_strain, gauge_strain, gauge_lateral = np.array(result.observed["gauge"]).T
     with np.errstate(divide="ignore", invalid="ignore"):
         poisson = np.where(strain > 0, -lateral_strain / strain, np.nan)
     return PatchSummary(

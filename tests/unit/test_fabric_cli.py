@@ -10,7 +10,7 @@ import pytest
 from surface_cases import synthetic_surface
 
 from fabric_dolfinx.cli import main
-from fabric_dolfinx.tension import TensionSetup
+from fabric_dolfinx.part import PartProblem
 from rve_rod.surface import write_surface
 from rve_rod.units import GF_PER_CM_PER_N_PER_MM
 
@@ -88,9 +88,9 @@ def test_installed_command_exits_2_without_traceback(tmp_path):
 def test_convergence_failure_exits_3_and_keeps_the_converged_steps(
     surface_file, capsys, monkeypatch
 ):
-    apply_load = TensionSetup.apply_load
+    apply_load = PartProblem.set_load_factor
     monkeypatch.setattr(
-        TensionSetup, "apply_load", lambda self, t: apply_load(self, t if t <= 0.5 else np.nan)
+        PartProblem, "set_load_factor", lambda self, t: apply_load(self, t if t <= 0.5 else np.nan)
     )
     argv = ["tension", "--surface", surface_file, "--steps", "4", "--json"]
     assert main(argv) == 3

@@ -107,8 +107,8 @@ def test_failed_steps_are_cut_back_and_the_error_keeps_the_converged_steps(tmp_p
     )
     options = SolverOptions(steps=4, stepping=stepping)
     setup = TensionSetup(STRESS, TensionTest(max_strain=0.1), options)
-    apply_load = setup.apply_load
-    setup.apply_load = lambda t: apply_load(t if t <= 0.5 else np.nan)
+    apply_load = setup.problem.set_load_factor
+    setup.problem.set_load_factor = lambda t: apply_load(t if t <= 0.5 else np.nan)
     xdmf = tmp_path / "failed.xdmf"
     with pytest.raises(ConvergenceError) as error:
         setup.run(xdmf=xdmf)
