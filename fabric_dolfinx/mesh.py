@@ -1,11 +1,11 @@
 """Quadrilateral fabric meshes from gmsh, distributed over MPI ranks, with tagged boundaries.
 
 The geometries live as gmsh `.geo` files in the repository's `meshes/` folder (open them in
-the gmsh GUI to look at them): `rectangle.geo`, a structured patch of any size and element
-count, and `plate_with_hole.geo`, an unstructured recombined all-quad plate with a central
-hole. Their `DefineConstant` parameters are set through gmsh's `-setnumber`. Gmsh runs on
-rank 0 only; `dolfinx.io.gmshio.model_to_mesh` partitions the mesh over the communicator.
-Lengths are mm.
+the gmsh GUI to look at them): `plate_with_hole.geo`, an unstructured recombined all-quad
+plate with a central hole (the structured shapes are built in `fabric_dolfinx.shapes`).
+Their `DefineConstant` parameters are set through gmsh's `-setnumber`. Gmsh runs on rank 0
+only; `dolfinx.io.gmshio.model_to_mesh` partitions the mesh over the communicator. Lengths
+are mm.
 """
 
 from collections.abc import Callable, Mapping
@@ -27,7 +27,6 @@ __all__ = [
     "mesh_gmsh_model",
     "plate_with_hole",
     "read_geo",
-    "rectangle_patch",
 ]
 
 MESH_DIRECTORY = Path(__file__).resolve().parents[1] / "meshes"
@@ -147,26 +146,6 @@ def mesh_gmsh_model(
         raise InputError(f"{source} did not give a quadrilateral mesh")
     boundaries, regions = groups
     return TaggedMesh(mesh, facet_tags, boundaries, cell_tags, regions)
-
-
-def rectangle_patch(
-    comm: MPI.Comm = MPI.COMM_WORLD,
-    *,
-    width: float = 50.0,
-    height: float = 50.0,
-    elements_x: int = 10,
-    elements_y: int = 10,
-) -> TaggedMesh:
-    """Structured patch [0, width] x [0, height] mm with elements_x x elements_y quads.
-
-    Boundaries: "left", "right", "bottom", "top".
-    """
-    check_positive("width", width, "mm")
-    check_positive("height", height, "mm")
-    check_integer("elements_x", elements_x, 1)
-    check_integer("elements_y", elements_y, 1)
-    parameters = {"width": width, "height": height, "nx": elements_x, "ny": elements_y}
-    return read_geo(MESH_DIRECTORY / "rectangle.geo", comm, parameters)
 
 
 def plate_with_hole(

@@ -5,12 +5,14 @@ import pytest
 from dolfinx.mesh import CellType
 from mesh_measures import integrate
 
-from fabric_dolfinx.mesh import MESH_DIRECTORY, plate_with_hole, read_geo, rectangle_patch
+from fabric_dolfinx.mesh import MESH_DIRECTORY, plate_with_hole, read_geo
+from fabric_dolfinx.part_spec import MeshSpec
+from fabric_dolfinx.shapes import make_mesh
 from rve_rod.errors import InputError
 
 
-def test_rectangle_patch_has_the_requested_elements_and_tagged_edges():
-    tagged = rectangle_patch(width=30.0, height=20.0, elements_x=6, elements_y=4)
+def test_rectangle_has_the_requested_elements_and_tagged_edges():
+    tagged = make_mesh(MeshSpec("rectangle", {"width": 30.0, "height": 20.0}, element_size=5.0))
     domain = tagged.mesh
     assert domain.topology.cell_type == CellType.quadrilateral
     assert domain.topology.index_map(2).size_global == 24
@@ -37,10 +39,10 @@ def test_plate_with_hole_refines_towards_the_exact_geometry():
     ("make", "message"),
     [
         (lambda: plate_with_hole(radius=25.0), "radius=25 mm is outside the valid range (0, 25)"),
-        (lambda: rectangle_patch(elements_x=0), "elements_x=0 is outside the valid range"),
-        (lambda: rectangle_patch(width=-5.0), "width=-5 mm must be > 0"),
+        (lambda: MeshSpec("rectangle", element_size=0.0), "element_size=0 mm must be > 0"),
+        (lambda: MeshSpec("rectangle", {"width": -5.0}), "width=-5 mm must be > 0"),
         (lambda: read_geo(MESH_DIRECTORY / "missing.geo"), "missing.geo does not exist"),
-        (lambda: rectangle_patch(elements_x=1, elements_y=1).facets("hole"), "'hole' is not"),
+        (lambda: make_mesh(MeshSpec("rectangle", element_size=50.0)).facets("hole"), "'hole' is"),
     ],
 )
 def test_bad_mesh_input_names_the_parameter(make, message):

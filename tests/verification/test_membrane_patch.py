@@ -12,7 +12,9 @@ from surface_cases import synthetic_surface
 
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.membrane import flat_frame, membrane_forms, membrane_state
-from fabric_dolfinx.mesh import plate_with_hole, rectangle_patch
+from fabric_dolfinx.mesh import plate_with_hole
+from fabric_dolfinx.part_spec import MeshSpec
+from fabric_dolfinx.shapes import make_mesh
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
 from fabric_dolfinx.tension import TensionSetup
 from fabric_dolfinx.tension_spec import TensionTest
@@ -87,7 +89,7 @@ def hole():
 
 @pytest.fixture(scope="module")
 def rectangle():
-    return rectangle_patch(MPI.COMM_WORLD, width=40.0, height=30.0, elements_x=8, elements_y=6)
+    return make_mesh(MeshSpec("rectangle", {"width": 40.0, "height": 30.0}, element_size=5.0))
 
 
 @pytest.fixture(scope="module")
