@@ -10,17 +10,13 @@ an orthotropic SVK law), follows the load path (`fabric_dolfinx.part`) and write
 - `figures/fabric_<boundary>.png`: force against displacement of every boundary that is not
   free.
 
-It is collective under MPI; the pipeline runs it in-process on one rank, or as
-
-    mpirun -n N python -m knitmech.fabric_job JOB.json FOLDER SUMMARY.json
-
-which rank 0 ends by writing the summary. A part in space (`[space]`) is the same problem with
+It is collective under MPI; the pipeline runs it as the `fabric` job (`knitmech.jobs`:
+in-process on one rank, or under mpirun). A part in space (`[space]`) is the same problem with
 3 components; it writes its own curves and figures (`knitmech.space_job`).
 """
 
 import json
 import logging
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -42,8 +38,8 @@ from rve_rod.surface import read_surface
 __all__ = [
     "CURVES_FILE",
     "XDMF_FILE",
-    "main",
     "run_fabric",
+    "run_request",
 ]
 
 logger = logging.getLogger(__name__)
@@ -159,15 +155,6 @@ def _plot_curves(result: PartResult, folder: Path) -> None:
         plt.close(figure)
 
 
-def main(argv: list[str]) -> int:
-    """`python -m knitmech.fabric_job JOB.json FOLDER SUMMARY.json` (see module)."""
-    request, folder, summary_path = argv
-    job = FabricJob.from_json(json.loads(Path(request).read_text()))
-    summary = run_fabric(job, Path(folder))
-    if MPI.COMM_WORLD.rank == 0:
-        Path(summary_path).write_text(json.dumps(summary))
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+def run_request(request: dict, folder: Path, comm) -> dict:
+    """The `fabric` job (`knitmech.jobs`): request a FabricJob as JSON."""
+    return run_fabric(FabricJob.from_json(request), Path(folder), comm)

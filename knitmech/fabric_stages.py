@@ -5,29 +5,20 @@ response surface of its knit (the [fabric] knit with the region's knit values on
 surfaces of the knits that occur are computed, each once, through the stage cache: the
 scene's own knit by the scene's surface stage (`surface.h5`, or the scene's `surface.path`),
 every other knit by a surface stage writing into `knits/<label>/`. A region with a surface
-file or SVK constants needs no surface run. No DOLFINx here: the fabric stage imports
-`knitmech.fabric_job` when it computes.
+file or SVK constants needs no surface run. No DOLFINx here: the fabric stage runs the
+`fabric` job (`knitmech.jobs`) when it computes.
 """
 
 import dataclasses
-import json
 import logging
-import subprocess
-import sys
 from pathlib import Path
 from typing import NamedTuple
 
 from knitmech.fabric_job_spec import FabricJob, RegionMaterial
+from knitmech.jobs.launch import run_job
 from knitmech.scene_fabric import region_knit
 from knitmech.stage_cache import Stage
-from knitmech.stages import (
-    STAGE_VERSION,
-    SURFACE_FILE,
-    RunPlan,
-    StageError,
-    file_digest,
-    mpirun_environment,
-)
+from knitmech.stages import STAGE_VERSION, SURFACE_FILE, RunPlan, file_digest
 from rve_rod.presets import Fabric, make_fabric
 
 __all__ = [
@@ -169,31 +160,9 @@ def fabric_stage(job: FabricJob, ranks: int) -> Stage:
         inputs["mesh_sha256"] = file_digest(Path(job.part.mesh.file))
 
     def compute(folder: Path) -> dict:
-        if ranks == 1:
-            from knitmech.fabric_job import run_fabric  # noqa: PLC0415 (dolfinx on demand)
-
-            return run_fabric(job, folder)
-        return _run_mpi(job, folder, ranks)
+        return run_job("fabric", job.to_json(), folder, ranks)
 
     return Stage("fabric", "", inputs, compute)
-
-
-def _run_mpi(job: FabricJob, folder: Path, ranks: int) -> dict:
-    """Run `knitmech.fabric_job` under `mpirun -n ranks`; returns the summary rank 0 wrote."""
-    request, summary_path = folder / ".fabric.json", folder / ".fabric-summary.json"
-    request.write_text(json.dumps(job.to_json()))
-    command = ["mpirun", "-n", str(ranks), sys.executable, "-m", "knitmech.fabric_job"]
-    command += [str(request), str(folder), str(summary_path)]
-    logger.info("fabric: %s", " ".join(command))
-    environment = mpirun_environment()
-    process = subprocess.run(command, check=False, capture_output=True, text=True, env=environment)
-    if process.returncode != 0:
-        tail = "\n".join(process.stderr.strip().splitlines()[-5:])
-        raise StageError(f"fabric under mpirun failed: {tail}")
-    summary = json.loads(summary_path.read_text())
-    for path in (request, summary_path):
-        path.unlink()
-    return summary
 
 
 def fabric_table(summary: dict) -> str:

@@ -6,18 +6,11 @@ Figure 8 (`figures/stress_<direction>.png`), and measures the patch's lateral co
 across its middle (the effective Poisson ratio of the clamped patch) and the strains of a gauge
 at its centre, as a video extensometer does in a tensile test (`PatchProbe`, an observer of the
 load path). It is collective under
-MPI; the pipeline runs it in-process on one rank, or as
-
-    mpirun -n N python -m knitmech.macro PATCH.json SURFACE.h5 FOLDER SUMMARY.json
-
-(PATCH.json: a `PatchJob` as JSON)
-
-which rank 0 ends by writing the summary.
+MPI; the pipeline runs it as the `patch` job (`knitmech.jobs`: in-process on one rank, or
+under mpirun).
 """
 
-import json
 import logging
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -39,8 +32,8 @@ __all__ = [
     "GAUGE_FRACTION",
     "STRESS_COMPONENT",
     "PatchProbe",
-    "main",
     "run_patch",
+    "run_request",
 ]
 
 logger = logging.getLogger(__name__)
@@ -173,15 +166,7 @@ def _material_alone(surface, strain: float, direction: str) -> float | None:
     return float(n_per_mm_to_gf_per_cm(force))
 
 
-def main(argv: list[str]) -> int:
-    """`python -m knitmech.macro PATCH.json SURFACE.h5 FOLDER SUMMARY.json` (see module)."""
-    request, surface_path, folder, summary_path = argv
-    job = PatchJob.from_json(json.loads(Path(request).read_text()))
-    summary = run_patch(job, Path(surface_path), Path(folder))
-    if MPI.COMM_WORLD.rank == 0:
-        Path(summary_path).write_text(json.dumps(summary.to_json()))
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+def run_request(request: dict, folder: Path, comm) -> dict:
+    """The `patch` job (`knitmech.jobs`): request {"job": PatchJob JSON, "surface": path}."""
+    job = PatchJob.from_json(request["job"])
+    return run_patch(job, Path(request["surface"]), Path(folder), comm).to_json()

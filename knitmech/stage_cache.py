@@ -31,6 +31,7 @@ __all__ = [
     "GIVEN",
     "Stage",
     "StageCache",
+    "StageError",
     "StageRecord",
     "StageResult",
     "remove_stale_work",
@@ -44,6 +45,10 @@ COMPUTED, CACHED, GIVEN = "computed", "cached", "given"
 _WORK_PREFIX = ".stage-"
 _SUMMARY = "summary"
 _FILES = "files"
+
+
+class StageError(RuntimeError):
+    """A stage could not finish (e.g. its MPI run failed); finished stages stay cached."""
 
 
 class Stage(NamedTuple):

@@ -7,22 +7,18 @@ stage cache. Files are written relative to the folder `compute` is given: `figur
 `paraview/`, `meso/` and `surface.h5` of the results folder (docs/pipeline.md).
 """
 
-import contextlib
 import dataclasses
 import hashlib
 import json
 import logging
-import os
 import shutil
-import signal
-import subprocess
-import sys
 from pathlib import Path
 from typing import NamedTuple, TextIO
 
 from fabric_dolfinx.tension_spec import TensionTest
 from knitmech.fidelity import Fidelity
-from knitmech.records import GeometrySummary, MesoSummary, PatchJob, PatchSummary, SurfaceSummary
+from knitmech.jobs.launch import run_job
+from knitmech.records import GeometrySummary, MesoSummary, PatchJob, SurfaceSummary
 from knitmech.scene import Scene
 from knitmech.stage_cache import Stage
 from rve_rod.cache import ResultCache
@@ -43,21 +39,17 @@ from rve_rod.vtk import write_vtk
 __all__ = [
     "DIRECTION_CASES",
     "FIELD_STRAINS",
-    "MPI_JOB_VARIABLES",
-    "MPI_STOP_TIMEOUT_S",
     "SOFTENING_TOLERANCE",
     "STAGE_VERSION",
     "SURFACE_FIGURE",
     "SURFACE_FILE",
     "RunPlan",
-    "StageError",
     "SurfaceRuns",
     "file_digest",
     "geometry_stage",
     "given_surface",
     "macro_stages",
     "meso_stages",
-    "mpirun_environment",
     "plan_run",
     "surface_stage",
     "surface_summary",
@@ -81,10 +73,6 @@ without a new package version (the package version is part of every key already)
 
 DIRECTION_CASES = {"course": "uniaxial-course", "wale": "uniaxial-wale"}
 """The meso-scale load case a patch direction is compared with."""
-
-
-class StageError(RuntimeError):
-    """A stage could not finish (e.g. its MPI run failed); finished stages stay cached."""
 
 
 class RunPlan(NamedTuple):
@@ -328,108 +316,7 @@ def macro_stages(plan: RunPlan, surface_path: Path) -> list[Stage]:
 
 def _macro_compute(job: PatchJob, surface_path: Path, ranks: int):
     def compute(folder: Path) -> dict:
-        if ranks == 1:
-            import petsc4py  # noqa: PLC0415 (dolfinx on demand)
-            from mpi4py import MPI  # noqa: PLC0415
-
-            # this process alone: under `python -m mpi4py.futures` (--executor mpi) the other
-            # ranks of COMM_WORLD serve RVE runs and take part in no collective call, not even
-            # PETSc's initialization (a no-op when PETSc is initialized already)
-            petsc4py.init(comm=MPI.COMM_SELF)
-            from knitmech.macro import run_patch  # noqa: PLC0415
-
-            return run_patch(job, surface_path, folder, MPI.COMM_SELF).to_json()
-        return _run_patch_mpi(job, surface_path, folder, ranks).to_json()
+        request = {"job": job.to_json(), "surface": str(surface_path)}
+        return run_job("patch", request, folder, ranks, label=f"macro {job.test.direction}")
 
     return compute
-
-
-MPI_STOP_TIMEOUT_S = 10.0
-"""Seconds mpirun and its ranks get to end after SIGTERM before they are killed."""
-
-MPI_JOB_VARIABLES = (
-    "PMIX_",
-    "ORTE_",
-    "OMPI_MCA_ess",
-    "OMPI_MCA_orte_",
-    "OMPI_MCA_pmix",
-    "OMPI_APP_CTX_",
-    "OMPI_COMM_WORLD_",
-)
-"""Prefixes of the environment variables of a running MPI job (set by its mpirun, or by Open
-MPI for a process that initialized MPI alone): an `mpirun` started with them inherited exits
-with 1 and no message, so no stage's mpirun gets them (`mpirun_environment`). Such a parent
-is e.g. a Python process that imported DOLFINx and then ran `knitmech run` (the test suite)."""
-
-
-def _run_group(command: list[str], environment: dict) -> tuple[int, str]:
-    """Run `command` in a process group of its own; returns its exit status and stderr.
-
-    On any interruption (Ctrl-C, SIGTERM as `rve_rod.errors.Terminated`, an error) the whole
-    group (mpirun and every rank) is sent SIGTERM, and SIGKILL after MPI_STOP_TIMEOUT_S, and
-    waited for, so that no rank outlives the run or writes into a folder being removed.
-    """
-    process = subprocess.Popen(
-        command,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=environment,
-        start_new_session=True,
-    )
-    try:
-        _, stderr = process.communicate()
-    except BaseException:
-        for signum, timeout in ((signal.SIGTERM, MPI_STOP_TIMEOUT_S), (signal.SIGKILL, None)):
-            with contextlib.suppress(ProcessLookupError):
-                os.killpg(process.pid, signum)
-            try:
-                process.wait(timeout)
-                break
-            except subprocess.TimeoutExpired:
-                continue
-        with contextlib.suppress(ProcessLookupError):
-            os.killpg(process.pid, signal.SIGKILL)  # ranks that outlived mpirun
-        raise
-    return process.returncode, stderr
-
-
-def mpirun_environment() -> dict[str, str]:
-    """The environment for an `mpirun` this process starts: its own, without the variables of
-    an enclosing MPI job (`MPI_JOB_VARIABLES`; a stage's mpirun is never meant to join one),
-    with running as root and oversubscription allowed."""
-    environment = {k: v for k, v in os.environ.items() if not k.startswith(MPI_JOB_VARIABLES)}
-    environment.update(
-        OMPI_ALLOW_RUN_AS_ROOT="1",
-        OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-        OMPI_MCA_rmaps_base_oversubscribe="1",
-    )
-    return environment
-
-
-def _run_patch_mpi(job: PatchJob, surface_path: Path, folder: Path, ranks: int) -> PatchSummary:
-    """Run `knitmech.macro` under `mpirun -n ranks`; returns the summary rank 0 wrote."""
-    request = folder / ".patch.json"
-    request.write_text(json.dumps(job.to_json()))
-    summary_path = folder / ".patch-summary.json"
-    command = [
-        "mpirun",
-        "-n",
-        str(ranks),
-        sys.executable,
-        "-m",
-        "knitmech.macro",
-        str(request),
-        str(surface_path),
-        str(folder),
-        str(summary_path),
-    ]
-    logger.info("macro %s: %s", job.test.direction, " ".join(command))
-    returncode, stderr = _run_group(command, mpirun_environment())
-    if returncode != 0:
-        tail = "\n".join(stderr.strip().splitlines()[-5:])
-        raise StageError(f"macro {job.test.direction} under mpirun failed: {tail}")
-    summary = PatchSummary.from_json(json.loads(summary_path.read_text()))
-    for path in (request, summary_path):
-        path.unlink()
-    return summary

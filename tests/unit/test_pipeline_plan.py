@@ -1,8 +1,9 @@
 """A scene and a fidelity level resolve into the settings of every stage."""
 
 from knitmech.fidelity import LEVELS
+from knitmech.jobs.launch import mpirun_environment
 from knitmech.scene import load_scene, scene_from_dict
-from knitmech.stages import mpirun_environment, plan_run
+from knitmech.stages import plan_run
 
 
 def test_settings_come_from_the_scene_and_the_level():

@@ -1,9 +1,10 @@
-"""A fault test: SIGTERM to `knitmech run` while its macro stage runs under mpirun.
+"""A fault test: SIGTERM to `knitmech run` while a stage runs under mpirun (`knitmech.jobs`):
+the macro stage (the patch) and the fabric stage (a part).
 
 The run must exit with 143 (128 + SIGTERM) and leave no process (mpirun and its ranks) and no
-temporary stage folder behind; the same command then resumes: the geometry stage comes from
-the cache and the macro stage is computed. The scene is small (the shipped surface file, one
-direction on a 4 x 4 patch, 2 ranks) so that the macro stage is all there is to interrupt.
+temporary stage folder behind; the same command then resumes: the stages that finished come
+from the cache and the interrupted one is computed. The scenes are small (the shipped surface
+file, or an SVK part, on 2 ranks) so that the MPI stage is all there is to interrupt.
 """
 
 import json
@@ -65,16 +66,48 @@ def ended_early(run: subprocess.Popen) -> str:
     return f"exit {run.returncode} before SIGTERM: {run.stderr.read()}"
 
 
-@pytest.mark.skipif(shutil.which("mpirun") is None, reason="needs mpirun")
-def test_sigterm_in_the_mpi_macro_stage_leaves_nothing_and_the_rerun_resumes(tmp_path):
+PART = """
+name = "sigterm part"
+fidelity = "fast"
+[fabric]
+preset = "cotton-20s2"
+stitch = 5.5
+[fabric.shape]
+kind = "rectangle"
+width = 50.0
+height = 50.0
+element_size = 1.25
+[meso]
+cases = []
+[[region]]
+name = "fabric"
+svk = { course_stiffness = 1.0, wale_stiffness = 0.5, poissons_ratio = 0.3 }
+[[boundary]]
+name = "left"
+kind = "clamp"
+[[boundary]]
+name = "right"
+kind = "displacement"
+displacement = [10.0, 2.0]
+[macro]
+steps = 80
+ranks = 2
+"""
+"""A part (an SVK square, 40 x 40 elements, 80 steps, 2 ranks) whose fabric stage lasts well
+beyond the moment the test sends the signal."""
+
+
+def interrupt_and_resume(tmp_path, text: str, request: str) -> dict:
+    """Run the scene `text`, SIGTERM it once mpirun runs the job whose request file is
+    `request`, check that nothing is left, run it again; returns the stages' statuses."""
     scene = tmp_path / "scene.toml"
-    scene.write_text(SCENE.format(surface=default_surface_path()))
+    scene.write_text(text)
     results, cache = tmp_path / "results", tmp_path / "cache"
     command = [KNITMECH, "run", str(scene), "-o", str(results), "--cache-dir", str(cache), "-q"]
     run = subprocess.Popen(command, stderr=subprocess.PIPE, text=True, start_new_session=True)
     try:
         deadline = time.monotonic() + 300
-        while not list(results.glob(".stage-*/.patch.json")):  # the macro stage has begun
+        while not list(results.glob(f".stage-*/{request}")):  # the MPI stage has begun
             assert run.poll() is None and time.monotonic() < deadline, ended_early(run)
             time.sleep(0.2)
         while not processes_mentioning(f"{results}/.stage-"):  # mpirun has started
@@ -95,18 +128,30 @@ def test_sigterm_in_the_mpi_macro_stage_leaves_nothing_and_the_rerun_resumes(tmp
     rerun = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False)
     assert rerun.returncode == 0, rerun.stderr
     stages = json.loads((results / "summary.json").read_text())["stages"]
-    assert {s["stage"]: s["status"] for s in stages} == {
-        "geometry": "cached",
-        "surface": "given",
-        "macro": "computed",
-    }
+    return {s["stage"]: s["status"] for s in stages}
+
+
+@pytest.mark.skipif(shutil.which("mpirun") is None, reason="needs mpirun")
+def test_sigterm_in_the_mpi_macro_stage_leaves_nothing_and_the_rerun_resumes(tmp_path):
+    statuses = interrupt_and_resume(
+        tmp_path, SCENE.format(surface=default_surface_path()), ".patch.json"
+    )
+    assert statuses == {"geometry": "cached", "surface": "given", "macro": "computed"}
+
+
+@pytest.mark.mpi
+@pytest.mark.skipif(shutil.which("mpirun") is None, reason="needs mpirun")
+def test_sigterm_in_the_mpi_fabric_stage_leaves_nothing_and_the_rerun_resumes(tmp_path):
+    statuses = interrupt_and_resume(tmp_path, PART, ".fabric.json")
+    assert statuses["fabric"] == "computed"
+    assert set(statuses.values()) <= {"cached", "computed"}
 
 
 @pytest.mark.skipif(shutil.which("mpirun") is None, reason="needs mpirun")
 def test_the_mpi_macro_stage_runs_from_a_process_that_initialized_mpi(tmp_path):
     """A parent that initialized MPI alone (e.g. imported DOLFINx) leaves Open MPI's job
     variables in the environment; an mpirun that inherits them exits 1 without a word. The
-    macro stage must not pass them on (knitmech.stages.MPI_JOB_VARIABLES)."""
+    macro stage must not pass them on (knitmech.jobs.launch.MPI_JOB_VARIABLES)."""
     scene = tmp_path / "scene.toml"
     scene.write_text(SCENE.format(surface=default_surface_path()).replace("steps = 4", "steps = 1"))
     command = [KNITMECH, "run", str(scene), "-o", str(tmp_path / "results")]
