@@ -36,11 +36,11 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
-from fabric_dolfinx.membrane import flat_frame, membrane_forms
-from fabric_dolfinx.mesh import plate_with_hole
+from fabric_dolfinx.membrane.forms import flat_frame, membrane_forms
+from fabric_dolfinx.mesh.tagged import plate_with_hole
+from fabric_dolfinx.part.tension import TensionSetup
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
-from fabric_dolfinx.tension import TensionSetup
-from fabric_dolfinx.tension_spec import TensionTest
+from fabric_dolfinx.spec.tension import TensionTest
 
 # the synthetic surface is a test fixture (tests/surface_cases.py)
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))

@@ -11,7 +11,7 @@ Two cases on the shipped cotton 20s/2 stitch 5.5 surface, at the mesh of each fi
   tube   the tube of examples/tube_inflation.toml (radius 20 mm, length 80 mm, ends
          clamped, the example's pressure and steps): the largest displacement.
 
-Both with the solver settings of `knitmech` (`part.space_solver_options`). For
+Both with the solver settings of `knitmech` (`part.problem.space_solver_options`). For
 each: DOFs, wall time (s, forms compiled beforehand), Newton iterations per step
 (mean/max) and cutbacks; each on 1 and on 2 MPI ranks (the 2-rank runs start this script
 under mpirun with --case and --elements).
@@ -37,11 +37,11 @@ import numpy as np
 from mpi4py import MPI
 
 from fabric_dolfinx.material import surface_material
-from fabric_dolfinx.part import PartProblem, space_solver_options
-from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
-from fabric_dolfinx.regions import Region
-from fabric_dolfinx.shapes import make_mesh
-from fabric_dolfinx.space_spec import IndenterSpec, SpaceSpec
+from fabric_dolfinx.mesh.shapes import make_mesh
+from fabric_dolfinx.part.problem import PartProblem, space_solver_options
+from fabric_dolfinx.part.regions import Region
+from fabric_dolfinx.spec.part import BoundaryCondition, MeshSpec
+from fabric_dolfinx.spec.space import IndenterSpec, SpaceSpec
 from rve_rod.errors import ConvergenceError
 from rve_rod.surface import read_surface
 

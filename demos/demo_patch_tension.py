@@ -24,12 +24,12 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from fabric_dolfinx.io import read_rve_curve
+from fabric_dolfinx.io.plot import plot_cell_field, plot_force_strain
+from fabric_dolfinx.io.rve_curve import read_rve_curve
 from fabric_dolfinx.material import surface_material
-from fabric_dolfinx.plot import plot_cell_field, plot_force_strain
+from fabric_dolfinx.part.tension import TensionSetup
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import TensionSetup
-from fabric_dolfinx.tension_spec import TensionTest
+from fabric_dolfinx.spec.tension import TensionTest
 from knitmech.scene import default_surface_path
 from rve_rod.surface import homogeneous_response, read_surface
 from rve_rod.units import n_per_mm_to_gf_per_cm

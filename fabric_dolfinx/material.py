@@ -4,7 +4,7 @@ Two laws, each a plain function `E -> S` in the material frame (axis 1 course-wi
 wale-wise): the response-surface law of `docs/surface-format.md` (B-spline factors written as
 piecewise polynomials with `ufl.conditional`, extended outside the sampled domain by their
 Taylor polynomials) and an orthotropic Saint Venant-Kirchhoff law for tests and comparisons.
-The membrane (`fabric_dolfinx.membrane`) gives a law the strain in the material frame.
+The membrane (`fabric_dolfinx.membrane.forms`) gives a law the strain in the material frame.
 Strains are dimensionless (tensor shear E12), stresses N/mm (force per unit undeformed
 width). No tangent is written here: the membrane derives it with `ufl.diff`.
 """

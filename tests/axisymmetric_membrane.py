@@ -10,7 +10,7 @@ strains and the plane-stress SVK energy per reference area are
     W = E h / (2 (1 - nu^2)) (E_r^2 + 2 nu E_r E_t + E_t^2).
 
 A sphere of radius R centred on the axis at height z_c pushes it up through frictionless
-penalty contact, the law of `membrane3d`: energy k/2 <-g>^2 per reference area, g = |x - c|
+penalty contact, the law of `membrane.loads`: energy k/2 <-g>^2 per reference area, g = |x - c|
 - R. The total energy 2 pi int (W + k/2 <-g>^2) r dr is discretized with linear elements
 (two-point Gauss) on a radial grid and minimized by Newton's method (the banded Hessian from
 central differences of the exact gradient, backtracking on the energy). The force on the

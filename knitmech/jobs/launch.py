@@ -14,12 +14,11 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
-from knitmech.stage_cache import StageError
-
 __all__ = [
     "JOBS",
     "MPI_JOB_VARIABLES",
     "MPI_STOP_TIMEOUT_S",
+    "StageError",
     "job_runner",
     "mpirun_environment",
     "run_job",
@@ -27,7 +26,7 @@ __all__ = [
 
 logger = logging.getLogger(__name__)
 
-JOBS = {"patch": "knitmech.macro", "fabric": "knitmech.fabric_job"}
+JOBS = {"patch": "knitmech.jobs.patch", "fabric": "knitmech.jobs.fabric"}
 """Job kind -> the module whose `run_request(request, folder, comm) -> dict` runs it."""
 
 MPI_STOP_TIMEOUT_S = 10.0
@@ -46,6 +45,10 @@ MPI_JOB_VARIABLES = (
 MPI for a process that initialized MPI alone): an `mpirun` started with them inherited exits
 with 1 and no message, so no job's mpirun gets them (`mpirun_environment`). Such a parent
 is e.g. a Python process that imported DOLFINx and then ran `knitmech run` (the test suite)."""
+
+
+class StageError(RuntimeError):
+    """A stage could not finish (e.g. its MPI run failed); finished stages stay cached."""
 
 
 def job_runner(kind: str) -> Callable[[dict, Path, object], dict]:

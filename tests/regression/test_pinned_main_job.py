@@ -8,7 +8,7 @@ from pins import assert_pinned
 
 from knitmech.pipeline import run_scene
 from knitmech.scene import load_scene
-from knitmech.stage_cache import COMPUTED
+from knitmech.stages.cache import COMPUTED
 
 
 @pytest.fixture(scope="module")

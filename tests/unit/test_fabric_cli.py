@@ -10,7 +10,7 @@ import pytest
 from surface_cases import synthetic_surface
 
 from fabric_dolfinx.cli import main
-from fabric_dolfinx.part import PartProblem
+from fabric_dolfinx.part.problem import PartProblem
 from rve_rod.surface import write_surface
 from rve_rod.units import GF_PER_CM_PER_N_PER_MM
 

@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from fabric_dolfinx.io import read_rve_curve
+from fabric_dolfinx.io.rve_curve import read_rve_curve
 from rve_rod.errors import InputError
 
 

@@ -15,7 +15,7 @@ from fabric_dolfinx.material import (
     spline_2d,
     svk_stress,
 )
-from fabric_dolfinx.membrane import flat_frame, membrane_state
+from fabric_dolfinx.membrane.forms import flat_frame, membrane_state
 from rve_rod.errors import InputError
 from rve_rod.surface import Spline1D, Spline2D
 

@@ -5,9 +5,9 @@ import pytest
 from dolfinx.mesh import CellType
 from mesh_measures import integrate
 
-from fabric_dolfinx.mesh import MESH_DIRECTORY, plate_with_hole, read_geo
-from fabric_dolfinx.part_spec import MeshSpec
-from fabric_dolfinx.shapes import make_mesh
+from fabric_dolfinx.mesh.shapes import make_mesh
+from fabric_dolfinx.mesh.tagged import MESH_DIRECTORY, plate_with_hole, read_geo
+from fabric_dolfinx.spec.part import MeshSpec
 from rve_rod.errors import InputError
 
 

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from mesh_measures import integrate
 
-from fabric_dolfinx.field_expression import FieldExpression
-from fabric_dolfinx.part_spec import MeshSpec
-from fabric_dolfinx.shapes import make_mesh
+from fabric_dolfinx.mesh.shapes import make_mesh
+from fabric_dolfinx.spec.expression import FieldExpression
+from fabric_dolfinx.spec.part import MeshSpec
 from rve_rod.errors import InputError
 
 

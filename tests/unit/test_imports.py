@@ -130,7 +130,7 @@ def test_no_module_imports_itself_through_others():
 
 @pytest.mark.parametrize(
     "module",
-    ["knitmech.stages", "knitmech.report", "knitmech.pipeline", "fabric_dolfinx.tension_spec"],
+    ["knitmech.stages", "knitmech.report", "knitmech.pipeline", "fabric_dolfinx.spec.tension"],
 )
 def test_planning_a_run_loads_no_dolfinx(module):
     """The modules a `knitmech run` loads before its macro stage, followed through the imports
@@ -149,7 +149,7 @@ def test_planning_a_run_loads_no_dolfinx(module):
         for imported in imported_names(modules[name], top_level_only=True)
     }
     assert external.isdisjoint(DOLFINX_STACK), sorted(external & set(DOLFINX_STACK))
-    assert "fabric_dolfinx.tension" not in seen
+    assert "fabric_dolfinx.part.tension" not in seen
 
 
 def declared_and_defined(path: Path) -> tuple[list[str] | None, set[str]]:

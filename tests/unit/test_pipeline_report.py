@@ -5,15 +5,15 @@ import json
 import numpy as np
 import pytest
 
-from fabric_dolfinx.tension_spec import TensionTest
-from knitmech.records import (
+from fabric_dolfinx.spec.tension import TensionTest
+from knitmech.report import compare_forces, poisson_ratios, summary_table, value_at
+from knitmech.stages.records import (
     GeometrySummary,
     MesoSummary,
     PatchJob,
     PatchSummary,
     SurfaceSummary,
 )
-from knitmech.report import compare_forces, poisson_ratios, summary_table, value_at
 
 
 def curve(max_strain, steps, force, lateral):

@@ -6,10 +6,10 @@ import tomllib
 import pytest
 
 from knitmech.cli import main
-from knitmech.fabric_stages import knit_surfaces
 from knitmech.fidelity import fidelity_level
 from knitmech.scene import SceneError, scene_from_dict
 from knitmech.stages import plan_run
+from knitmech.stages.fabric import knit_surfaces
 
 BASE = {
     "name": "part",

@@ -173,7 +173,7 @@ def test_the_command_line_exits_2_on_a_plane_behind_the_fabric(tmp_path, capsys)
 @pytest.mark.parametrize("indenter", [SPHERE, PLANE])
 def test_the_fabric_job_in_space_survives_its_json_round_trip(indenter):
     """The mpirun path sends the job as JSON: the part's space comes back equal."""
-    from knitmech.fabric_job_spec import FabricJob, RegionMaterial  # noqa: PLC0415
+    from knitmech.jobs.fabric_spec import FabricJob, RegionMaterial  # noqa: PLC0415
 
     scene = scene_from_dict({**BASE, "space": {"stabilization": 1e-4}, "indenter": indenter})
     part = scene.resolved(fidelity_level("fast")).part

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from fabric_dolfinx.fields import slack_indicator
+from fabric_dolfinx.part.fields import slack_indicator
 
 
 def test_taut_wrinkled_and_slack_cells_are_told_apart():

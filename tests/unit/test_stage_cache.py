@@ -3,7 +3,7 @@ computed; an interrupted stage leaves no entry and no files."""
 
 import pytest
 
-from knitmech.stage_cache import CACHED, COMPUTED, Stage, StageCache
+from knitmech.stages.cache import CACHED, COMPUTED, Stage, StageCache
 
 
 class Counter:

@@ -2,7 +2,7 @@
 one physical number against an expectation computed another way.
 
 * patch (course, wale): the part's clamp force equals the [macro] patch test of
-  `fabric_dolfinx.tension` on the same mesh and steps (separate code: its own boundary
+  `fabric_dolfinx.part.tension` on the same mesh and steps (separate code: its own boundary
   conditions and reaction) to 1e-8.
 * strip tensile test: the long strip contracts freely between its clamps; its force per width
   lies between the material's homogeneous uniaxial (lateral stress 0) and strip-biaxial
@@ -34,9 +34,9 @@ import pytest
 from PIL import Image
 
 from fabric_dolfinx.material import OrthotropicSVK, surface_material
+from fabric_dolfinx.part.tension import TensionSetup
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import TensionSetup
-from fabric_dolfinx.tension_spec import TensionTest
+from fabric_dolfinx.spec.tension import TensionTest
 from knitmech.pipeline import run_scene
 from knitmech.scene import load_scene, scene_from_dict
 from rve_rod.surface import homogeneous_response, read_surface

@@ -11,9 +11,9 @@ import scipy.optimize
 from surface_cases import synthetic_surface
 
 from fabric_dolfinx.material import surface_material
+from fabric_dolfinx.part.tension import TensionSetup
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import TensionSetup
-from fabric_dolfinx.tension_spec import TensionTest
+from fabric_dolfinx.spec.tension import TensionTest
 
 SURFACE = synthetic_surface()
 MATERIAL = surface_material(SURFACE)
@@ -47,9 +47,9 @@ def test_clamped_patch_force_lies_between_uniaxial_and_strip_biaxial(direction, 
 def test_strains_beyond_the_surface_domain_warn_once_and_continue(caplog):
     """E11 = 0.3 (the domain's end) is reached at 26.5 % strain; the path goes to 35 %."""
     setup = TensionSetup(MATERIAL, TensionTest(max_strain=0.35), SolverOptions(steps=7))
-    with caplog.at_level(logging.WARNING, logger="fabric_dolfinx.domain"):
+    with caplog.at_level(logging.WARNING, logger="fabric_dolfinx.part.range_check"):
         result = setup.run()
-    warnings = [r for r in caplog.records if r.name == "fabric_dolfinx.domain"]
+    warnings = [r for r in caplog.records if r.name == "fabric_dolfinx.part.range_check"]
     assert len(warnings) == 1
     assert "left the response-surface domain at load 0.3" in warnings[0].getMessage()
     assert result.outside_domain and result.strain[-1] == pytest.approx(0.35)

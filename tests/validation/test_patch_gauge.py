@@ -1,4 +1,4 @@
-"""The centre gauge of the patch tension test (`knitmech.macro.PatchProbe`), a tensile test's
+"""The centre gauge of the patch tension test (`knitmech.jobs.patch.PatchProbe`), a tensile test's
 extensometer: without lateral coupling the patch deforms homogeneously and the gauge reads the
 nominal strain and no contraction; with coupling the clamps hold the fabric's width at its
 ends, and the force where the gauge reads a strain lies between the material's with its width
@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 from surface_cases import COTTON_LIKE_LAW, synthetic_surface
 
-from fabric_dolfinx.tension_spec import TensionTest
-from knitmech.macro import run_patch
-from knitmech.records import PatchJob
+from fabric_dolfinx.spec.tension import TensionTest
+from knitmech.jobs.patch import run_patch
 from knitmech.report import value_at
+from knitmech.stages.records import PatchJob
 from rve_rod.surface import homogeneous_response, write_surface
 from rve_rod.units import n_per_mm_to_gf_per_cm
 

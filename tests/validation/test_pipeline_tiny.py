@@ -26,10 +26,10 @@ import dataclasses
 import numpy as np
 import pytest
 
-import knitmech.macro
+import knitmech.jobs.patch
 from knitmech.pipeline import run_scene
 from knitmech.scene import scene_from_dict
-from knitmech.stage_cache import CACHED, COMPUTED, GIVEN
+from knitmech.stages.cache import CACHED, COMPUTED, GIVEN
 from rve_rod.homogenize.generate import GenerationError, engine_identity
 from rve_rod.rve import RodRve
 
@@ -78,7 +78,7 @@ def runs(tmp_path_factory):
     assert [failure.case.load.kind for failure in stopped.value.failures] == ["shear"]
     assert stopped.value.failures[0].reason.startswith("PowerCutError")
     outcomes["stopped_in_surface"] = root / "stopped"
-    run_patch = knitmech.macro.run_patch
+    run_patch = knitmech.jobs.patch.run_patch
 
     def stop_at_wale(job, *args, **kwargs):
         if job.test.direction == "wale":
@@ -86,7 +86,7 @@ def runs(tmp_path_factory):
         return run_patch(job, *args, **kwargs)
 
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr("knitmech.macro.run_patch", stop_at_wale)
+        patch.setattr("knitmech.jobs.patch.run_patch", stop_at_wale)
         with pytest.raises(PowerCutError):
             run_scene(scene, output=root / "stopped_in_macro", **arguments)
     assert (root / "stopped_in_macro" / "paraview" / "patch_course.xdmf").is_file()

@@ -9,13 +9,13 @@ import json
 
 from mpi4py import MPI
 
-from fabric_dolfinx.field_expression import FieldExpression
 from fabric_dolfinx.material import OrthotropicSVK, svk_material
-from fabric_dolfinx.part import PartProblem
-from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
-from fabric_dolfinx.regions import Region
-from fabric_dolfinx.shapes import make_mesh
+from fabric_dolfinx.mesh.shapes import make_mesh
+from fabric_dolfinx.part.problem import PartProblem
+from fabric_dolfinx.part.regions import Region
 from fabric_dolfinx.solve import SolverOptions
+from fabric_dolfinx.spec.expression import FieldExpression
+from fabric_dolfinx.spec.part import BoundaryCondition, MeshSpec
 from rve_rod.jsonable import to_jsonable
 
 tagged = make_mesh(MeshSpec("plate_with_hole", {"radius": 8.0}, element_size=6.0))

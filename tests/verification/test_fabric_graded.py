@@ -13,14 +13,14 @@ import numpy as np
 import pytest
 import scipy.optimize
 
-from fabric_dolfinx.field_expression import FieldExpression
 from fabric_dolfinx.graded import hat_weights
 from fabric_dolfinx.material import OrthotropicSVK, svk_material
-from fabric_dolfinx.part import PartProblem
-from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
-from fabric_dolfinx.regions import Region
-from fabric_dolfinx.shapes import make_mesh
+from fabric_dolfinx.mesh.shapes import make_mesh
+from fabric_dolfinx.part.problem import PartProblem
+from fabric_dolfinx.part.regions import Region
 from fabric_dolfinx.solve import SolverOptions
+from fabric_dolfinx.spec.expression import FieldExpression
+from fabric_dolfinx.spec.part import BoundaryCondition, MeshSpec
 from rve_rod.errors import InputError
 
 LOOSE = OrthotropicSVK(course_stiffness=1.0, wale_stiffness=0.5, poissons_ratio=0.0)

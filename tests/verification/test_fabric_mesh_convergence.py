@@ -10,8 +10,8 @@ from petsc4py import PETSc
 from surface_cases import synthetic_surface
 
 from fabric_dolfinx.material import surface_material
-from fabric_dolfinx.membrane import flat_frame, membrane_forms
-from fabric_dolfinx.mesh import plate_with_hole
+from fabric_dolfinx.membrane.forms import flat_frame, membrane_forms
+from fabric_dolfinx.mesh.tagged import plate_with_hole
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
 
 MATERIAL = surface_material(synthetic_surface())

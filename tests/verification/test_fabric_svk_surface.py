@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
+from fabric_dolfinx.part.tension import TensionSetup
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import TensionSetup
-from fabric_dolfinx.tension_spec import TensionTest
+from fabric_dolfinx.spec.tension import TensionTest
 from rve_rod.surface import ResponseSurface, Spline1D, Spline2D, homogeneous_response
 
 SVK = OrthotropicSVK(

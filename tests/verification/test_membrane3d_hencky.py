@@ -7,14 +7,14 @@ import pytest
 import scipy.integrate
 import scipy.optimize
 
-from fabric_dolfinx.fields import PartFields
 from fabric_dolfinx.material import OrthotropicSVK, svk_material
-from fabric_dolfinx.part import PartProblem
-from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
-from fabric_dolfinx.regions import Region
-from fabric_dolfinx.shapes import make_mesh
+from fabric_dolfinx.mesh.shapes import make_mesh
+from fabric_dolfinx.part.fields import PartFields
+from fabric_dolfinx.part.problem import PartProblem
+from fabric_dolfinx.part.regions import Region
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.space_spec import SpaceSpec
+from fabric_dolfinx.spec.part import BoundaryCondition, MeshSpec
+from fabric_dolfinx.spec.space import SpaceSpec
 
 STIFFNESS, POISSON, RADIUS, PRESSURE = 10.0, 0.3, 50.0, 2e-6  # N/mm, -, mm, N/mm^2
 LOAD = PRESSURE * RADIUS / STIFFNESS  # Q = q a / (E h): strains ~ Q^(2/3) = 1e-4

@@ -9,12 +9,12 @@ import pytest
 from axisymmetric_membrane import indent_clamped_disc
 
 from fabric_dolfinx.material import OrthotropicSVK, svk_material
-from fabric_dolfinx.part import PartProblem, space_solver_options
-from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
-from fabric_dolfinx.regions import Region
-from fabric_dolfinx.shapes import make_mesh
+from fabric_dolfinx.mesh.shapes import make_mesh
+from fabric_dolfinx.part.problem import PartProblem, space_solver_options
+from fabric_dolfinx.part.regions import Region
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.space_spec import IndenterSpec, SpaceSpec
+from fabric_dolfinx.spec.part import BoundaryCondition, MeshSpec
+from fabric_dolfinx.spec.space import IndenterSpec, SpaceSpec
 from rve_rod.errors import InputError
 
 CLAMP, BALL, DEPTH = 22.225, 12.7, 3.0  # mm: ASTM D3787 ring radius, ball radius, travel

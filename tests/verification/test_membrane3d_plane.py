@@ -9,14 +9,14 @@ from dolfinx import fem
 from surface_cases import synthetic_surface
 
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
-from fabric_dolfinx.membrane import flat_frame, membrane_forms
-from fabric_dolfinx.membrane3d import pressure_residual
-from fabric_dolfinx.part import PartProblem
-from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
-from fabric_dolfinx.regions import Region
-from fabric_dolfinx.shapes import make_mesh
+from fabric_dolfinx.membrane.forms import flat_frame, membrane_forms
+from fabric_dolfinx.membrane.loads import pressure_residual
+from fabric_dolfinx.mesh.shapes import make_mesh
+from fabric_dolfinx.part.problem import PartProblem
+from fabric_dolfinx.part.regions import Region
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.space_spec import SpaceSpec
+from fabric_dolfinx.spec.part import BoundaryCondition, MeshSpec
+from fabric_dolfinx.spec.space import SpaceSpec
 
 SURFACE = surface_material(synthetic_surface())
 SVK = svk_material(OrthotropicSVK(1.0, 0.5, 0.3, 0.2))

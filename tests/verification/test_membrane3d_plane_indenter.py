@@ -16,13 +16,13 @@ import ufl
 from dolfinx import fem
 
 from fabric_dolfinx.material import OrthotropicSVK, svk_material
-from fabric_dolfinx.membrane3d import PlaneIndenter
-from fabric_dolfinx.part import PartProblem
-from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
-from fabric_dolfinx.regions import Region
-from fabric_dolfinx.shapes import make_mesh
+from fabric_dolfinx.membrane.loads import PlaneIndenter
+from fabric_dolfinx.mesh.shapes import make_mesh
+from fabric_dolfinx.part.problem import PartProblem
+from fabric_dolfinx.part.regions import Region
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.space_spec import IndenterSpec, SpaceSpec
+from fabric_dolfinx.spec.part import BoundaryCondition, MeshSpec
+from fabric_dolfinx.spec.space import IndenterSpec, SpaceSpec
 from rve_rod.errors import InputError
 
 RADIUS, PRESSURE, HEIGHT = 10.0, 1e-3, 2.0  # mm, N/mm^2, mm: the plane's start above the disc

@@ -13,14 +13,14 @@ import numpy as np
 import pytest
 import scipy.optimize
 
-from fabric_dolfinx.fields import PartFields
 from fabric_dolfinx.material import OrthotropicSVK, svk_material
-from fabric_dolfinx.part import PartProblem
-from fabric_dolfinx.part_spec import BoundaryCondition
-from fabric_dolfinx.regions import Region
+from fabric_dolfinx.mesh.surfaces import tube_mesh
+from fabric_dolfinx.part.fields import PartFields
+from fabric_dolfinx.part.problem import PartProblem
+from fabric_dolfinx.part.regions import Region
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.space_spec import SpaceSpec
-from fabric_dolfinx.surfaces3d import tube_mesh
+from fabric_dolfinx.spec.part import BoundaryCondition
+from fabric_dolfinx.spec.space import SpaceSpec
 
 RADIUS, LENGTH, PRESSURE, SIZE = 10.0, 20.0, 0.01, 2.5  # mm, mm, N/mm^2, mm
 SVK = OrthotropicSVK(

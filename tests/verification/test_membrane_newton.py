@@ -11,10 +11,10 @@ from dolfinx import fem
 from surface_cases import COTTON_LIKE_LAW, synthetic_surface
 
 from fabric_dolfinx.material import surface_material
-from fabric_dolfinx.membrane import membrane_forms
+from fabric_dolfinx.membrane.forms import membrane_forms
+from fabric_dolfinx.part.tension import TensionSetup
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import TensionSetup
-from fabric_dolfinx.tension_spec import TensionTest
+from fabric_dolfinx.spec.tension import TensionTest
 from rve_rod.errors import ConvergenceError
 from rve_rod.stepping import SteppingOptions
 from rve_rod.surface import ResponseSurface

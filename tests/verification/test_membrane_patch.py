@@ -11,13 +11,13 @@ from mpi4py import MPI
 from surface_cases import synthetic_surface
 
 from fabric_dolfinx.material import surface_material
-from fabric_dolfinx.membrane import flat_frame, membrane_forms, membrane_state
-from fabric_dolfinx.mesh import plate_with_hole
-from fabric_dolfinx.part_spec import MeshSpec
-from fabric_dolfinx.shapes import make_mesh
+from fabric_dolfinx.membrane.forms import flat_frame, membrane_forms, membrane_state
+from fabric_dolfinx.mesh.shapes import make_mesh
+from fabric_dolfinx.mesh.tagged import plate_with_hole
+from fabric_dolfinx.part.tension import TensionSetup
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
-from fabric_dolfinx.tension import TensionSetup
-from fabric_dolfinx.tension_spec import TensionTest
+from fabric_dolfinx.spec.part import MeshSpec
+from fabric_dolfinx.spec.tension import TensionTest
 
 SURFACE = synthetic_surface()
 MATERIAL = surface_material(SURFACE)

@@ -1,7 +1,7 @@
 """The fabric stage: a scene's part (shape or gmsh file, regions, boundary conditions) solved.
 
 `run_fabric` meshes the part, gives each region its material (a response-surface file or
-an orthotropic SVK law), follows the load path (`fabric_dolfinx.part`) and writes
+an orthotropic SVK law), follows the load path (`fabric_dolfinx.part.problem`) and writes
 
 - `paraview/fabric.xdmf` (+ `.h5`): displacement, Green-Lagrange strain, Cauchy stress,
   principal stresses and direction, region number, stitch value, course direction per cell;
@@ -12,7 +12,7 @@ an orthotropic SVK law), follows the load path (`fabric_dolfinx.part`) and write
 
 It is collective under MPI; the pipeline runs it as the `fabric` job (`knitmech.jobs`:
 in-process on one rank, or under mpirun). A part in space (`[space]`) is the same problem with
-3 components; it writes its own curves and figures (`knitmech.space_job`).
+3 components; it writes its own curves and figures (`knitmech.jobs.space`).
 """
 
 import json
@@ -22,15 +22,15 @@ from pathlib import Path
 import numpy as np
 from mpi4py import MPI
 
-from fabric_dolfinx.field_expression import FieldExpression
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
-from fabric_dolfinx.part import PartProblem, PartResult, space_solver_options
-from fabric_dolfinx.regions import Region
-from fabric_dolfinx.shapes import make_mesh
+from fabric_dolfinx.mesh.shapes import make_mesh
+from fabric_dolfinx.part.problem import PartProblem, PartResult, space_solver_options
+from fabric_dolfinx.part.regions import Region
 from fabric_dolfinx.solve import SolverOptions
-from knitmech.fabric_job_spec import FabricJob, RegionMaterial
-from knitmech.scene_fabric import RegionSpec
-from knitmech.space_job import plot_space, space_curves
+from fabric_dolfinx.spec.expression import FieldExpression
+from knitmech.jobs.fabric_spec import FabricJob, RegionMaterial
+from knitmech.jobs.space import plot_space, space_curves
+from knitmech.scene.fabric import RegionSpec
 from rve_rod.errors import ConvergenceError, InputError
 from rve_rod.jsonable import to_jsonable
 from rve_rod.surface import read_surface

@@ -1,5 +1,5 @@
 """Uniaxial tension of a square fabric patch between clamps (the paper's macro-scale test),
-as an ordinary part (`fabric_dolfinx.part`).
+as an ordinary part (`fabric_dolfinx.part.problem`).
 
 Course-wise: the left edge is clamped and the right edge displaced uniformly along x;
 wale-wise: the bottom edge is clamped and the top edge displaced along y (both clamps hold
@@ -17,14 +17,14 @@ from typing import NamedTuple
 import numpy as np
 from mpi4py import MPI
 
-from fabric_dolfinx.fields import PartFields
 from fabric_dolfinx.material import Material
-from fabric_dolfinx.part import Observer, PartProblem, PartResult
-from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
-from fabric_dolfinx.regions import Region
-from fabric_dolfinx.shapes import make_mesh
+from fabric_dolfinx.mesh.shapes import make_mesh
+from fabric_dolfinx.part.fields import PartFields
+from fabric_dolfinx.part.problem import Observer, PartProblem, PartResult
+from fabric_dolfinx.part.regions import Region
 from fabric_dolfinx.solve import PathResult, SolverOptions, with_history
-from fabric_dolfinx.tension_spec import DIRECTIONS, TensionTest
+from fabric_dolfinx.spec.part import BoundaryCondition, MeshSpec
+from fabric_dolfinx.spec.tension import DIRECTIONS, TensionTest
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
 __all__ = [

@@ -15,12 +15,12 @@ import shutil
 from pathlib import Path
 from typing import NamedTuple, TextIO
 
-from fabric_dolfinx.tension_spec import TensionTest
+from fabric_dolfinx.spec.tension import TensionTest
 from knitmech.fidelity import Fidelity
 from knitmech.jobs.launch import run_job
-from knitmech.records import GeometrySummary, MesoSummary, PatchJob, SurfaceSummary
 from knitmech.scene import Scene
-from knitmech.stage_cache import Stage
+from knitmech.stages.cache import Stage
+from knitmech.stages.records import GeometrySummary, MesoSummary, PatchJob, SurfaceSummary
 from rve_rod.cache import ResultCache
 from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.loop import loop_geometry

@@ -31,7 +31,6 @@ __all__ = [
     "GIVEN",
     "Stage",
     "StageCache",
-    "StageError",
     "StageRecord",
     "StageResult",
     "remove_stale_work",
@@ -45,10 +44,6 @@ COMPUTED, CACHED, GIVEN = "computed", "cached", "given"
 _WORK_PREFIX = ".stage-"
 _SUMMARY = "summary"
 _FILES = "files"
-
-
-class StageError(RuntimeError):
-    """A stage could not finish (e.g. its MPI run failed); finished stages stay cached."""
 
 
 class Stage(NamedTuple):

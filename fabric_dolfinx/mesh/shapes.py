@@ -12,10 +12,10 @@ Shapes (lengths in mm; `element_size` is the target edge length of the quadrilat
 - `disc` of `radius` centred at the origin, an O-grid (a square core and four curved
   blocks); boundary rim.
 - `tube` of `radius` and `length` along z, a curved surface in space for the membrane in
-  space only (`fabric_dolfinx.surfaces3d`); boundaries bottom, top.
+  space only (`fabric_dolfinx.mesh.surfaces`); boundaries bottom, top.
 
 Every shape has one region, "fabric"; a scene splits it into regions by conditions on the
-cell centres (`fabric_dolfinx.regions`), and a user's gmsh file names its own regions
+cell centres (`fabric_dolfinx.part.regions`), and a user's gmsh file names its own regions
 (physical surfaces) and boundaries (physical curves). `make_mesh` builds either.
 """
 
@@ -26,9 +26,9 @@ from pathlib import Path
 import gmsh
 from mpi4py import MPI
 
-from fabric_dolfinx.mesh import MESH_DIRECTORY, mesh_gmsh_model, read_geo
-from fabric_dolfinx.part_spec import MeshSpec, shape_size
-from fabric_dolfinx.surfaces3d import tube_mesh
+from fabric_dolfinx.mesh.surfaces import tube_mesh
+from fabric_dolfinx.mesh.tagged import MESH_DIRECTORY, mesh_gmsh_model, read_geo
+from fabric_dolfinx.spec.part import MeshSpec, shape_size
 from rve_rod.errors import InputError
 
 __all__ = [

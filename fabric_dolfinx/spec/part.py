@@ -1,8 +1,8 @@
 """The specification of a fabric part, without DOLFINx (the pipeline plans and checks with it).
 
-`MeshSpec`: a built-in shape with its dimensions or a gmsh file (`fabric_dolfinx.shapes`
+`MeshSpec`: a built-in shape with its dimensions or a gmsh file (`fabric_dolfinx.mesh.shapes`
 meshes it); `BoundaryCondition`: what holds or loads one named boundary
-(`fabric_dolfinx.boundary` applies it).
+(`fabric_dolfinx.part.boundary` applies it).
 """
 
 from dataclasses import dataclass, field

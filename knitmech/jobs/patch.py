@@ -1,6 +1,6 @@
 """The macro stage: the patch tension test of a scene on its response surface (DOLFINx).
 
-`run_patch` runs one direction (`fabric_dolfinx.tension`), writes the XDMF file of every step
+`run_patch` runs one direction (`fabric_dolfinx.part.tension`), writes the XDMF file of every step
 (`paraview/patch_<direction>.xdmf` with its `.h5`) and the stress map of the paper's
 Figure 8 (`figures/stress_<direction>.png`), and measures the patch's lateral contraction
 across its middle (the effective Poisson ratio of the clamped patch) and the strains of a gauge
@@ -17,13 +17,13 @@ import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
 
+from fabric_dolfinx.io.plot import plot_cell_field
 from fabric_dolfinx.material import surface_material
-from fabric_dolfinx.plot import plot_cell_field
-from fabric_dolfinx.probes import PointProbe
+from fabric_dolfinx.part.probes import PointProbe
+from fabric_dolfinx.part.tension import TensionSetup
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import TensionSetup
-from fabric_dolfinx.tension_spec import DIRECTIONS
-from knitmech.records import PatchJob, PatchSummary
+from fabric_dolfinx.spec.tension import DIRECTIONS
+from knitmech.stages.records import PatchJob, PatchSummary
 from rve_rod.errors import ConvergenceError, InputError
 from rve_rod.surface import homogeneous_response, read_surface
 from rve_rod.units import n_per_mm_to_gf_per_cm

@@ -1,9 +1,9 @@
-"""The curves and figures of a part in space (`knitmech.fabric_job.run_fabric` solves it).
+"""The curves and figures of a part in space (`knitmech.jobs.fabric.run_fabric` solves it).
 
 Boundary conditions of the plane part keep their meaning with z added: `clamp` holds x, y
 and z; `displacement` moves the boundary by (dx, dy, 0); `roller` holds one in-plane
 component; `traction` is the dead load (tx, ty, 0); `free` imposes nothing
-(`fabric_dolfinx.boundary`). The fabric stage of a part in space writes
+(`fabric_dolfinx.part.boundary`). The fabric stage of a part in space writes
 
 - `paraview/fabric.xdmf` (+ `.h5`): displacement (3D), strain and second Piola-Kirchhoff
   stress (course/wale frame), Cauchy stress in space, principal stresses and direction, the
@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from fabric_dolfinx.part import PartResult
-from fabric_dolfinx.space_spec import SpaceSpec
+from fabric_dolfinx.part.problem import PartResult
+from fabric_dolfinx.spec.space import SpaceSpec
 
 __all__ = [
     "plot_space",

@@ -1,5 +1,5 @@
 """Cell fields of a part's state for ParaView (DG0: the value at the cell centre), one writer
-for every kind of part (`fabric_dolfinx.part`).
+for every kind of part (`fabric_dolfinx.part.problem`).
 
 A plane part writes the displacement, the Green-Lagrange strain and the Cauchy stress in the
 mesh's axes, the principal stresses and the direction of the largest, and per cell its region
@@ -17,8 +17,8 @@ from dolfinx import fem
 from dolfinx.io import XDMFFile
 from mpi4py import MPI
 
-from fabric_dolfinx.membrane import membrane_state
-from fabric_dolfinx.regions import cell_field
+from fabric_dolfinx.membrane.forms import membrane_state
+from fabric_dolfinx.part.regions import cell_field
 
 __all__ = [
     "PartFields",

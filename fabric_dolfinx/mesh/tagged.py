@@ -2,7 +2,7 @@
 
 The geometries live as gmsh `.geo` files in the repository's `meshes/` folder (open them in
 the gmsh GUI to look at them): `plate_with_hole.geo`, an unstructured recombined all-quad
-plate with a central hole (the structured shapes are built in `fabric_dolfinx.shapes`).
+plate with a central hole (the structured shapes are built in `fabric_dolfinx.mesh.shapes`).
 Their `DefineConstant` parameters are set through gmsh's `-setnumber`. Gmsh runs on rank 0
 only; `dolfinx.io.gmshio.model_to_mesh` partitions the mesh over the communicator. Lengths
 are mm.
@@ -18,7 +18,7 @@ import gmsh
 import numpy as np
 from mpi4py import MPI
 
-from fabric_dolfinx.part_spec import physical_groups
+from fabric_dolfinx.spec.part import physical_groups
 from rve_rod.errors import InputError, check_integer, check_positive
 
 __all__ = [
@@ -29,7 +29,7 @@ __all__ = [
     "read_geo",
 ]
 
-MESH_DIRECTORY = Path(__file__).resolve().parents[1] / "meshes"
+MESH_DIRECTORY = Path(__file__).resolve().parents[2] / "meshes"
 """The repository's folder of gmsh geometry files."""
 
 
@@ -106,7 +106,7 @@ def mesh_gmsh_model(
 ) -> TaggedMesh:
     """Run `build` on rank 0 inside an initialized gmsh (it must leave a 2D mesh in the
     current model), refine, check and distribute the mesh over `comm`. `gdim` 3 keeps the
-    z coordinate: a curved surface in space (`fabric_dolfinx.membrane3d`).
+    z coordinate: a curved surface in space (`fabric_dolfinx.membrane.loads`).
 
     Raises InputError (on every rank) when the mesh has cells other than 4-node
     quadrilaterals, no physical surface, or a curve (surface) in two physical curves

@@ -24,8 +24,8 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from fabric_dolfinx.mesh import TaggedMesh
-from fabric_dolfinx.part_spec import AXES, BoundaryCondition
+from fabric_dolfinx.mesh.tagged import TaggedMesh
+from fabric_dolfinx.spec.part import AXES, BoundaryCondition
 from rve_rod.errors import InputError
 
 __all__ = [

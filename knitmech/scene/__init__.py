@@ -15,9 +15,9 @@ from pathlib import Path
 from typing import Any
 
 from knitmech.fidelity import DEFAULT, LEVELS, Fidelity
-from knitmech.scene_fabric import PartSpec, part_toml, read_part
-from knitmech.scene_fabric import toml_value as _toml_value
-from knitmech.scene_space import SPACE_TABLES
+from knitmech.scene.fabric import PartSpec, part_toml, read_part
+from knitmech.scene.fabric import toml_value as _toml_value
+from knitmech.scene.space import SPACE_TABLES
 from rve_rod import limits
 from rve_rod.errors import InputError
 from rve_rod.presets import Fabric, load_preset, make_fabric
@@ -165,7 +165,7 @@ class Scene:
     macro: MacroSpec = field(default_factory=MacroSpec)
     part: PartSpec | None = None
     """The fabric part ([fabric.shape] or [fabric.mesh], [[region]], [[boundary]];
-    `knitmech.scene_fabric`); None: the patch tension tests of [macro]."""
+    `knitmech.scene.fabric`); None: the patch tension tests of [macro]."""
 
     def to_dict(self) -> dict[str, Any]:
         """The scene as plain data (lists for tuples, no None), for TOML/JSON records."""

@@ -1,6 +1,6 @@
 """The membrane in space in a scene: the [space] table and its loads [pressure], [indenter].
 
-    [space]                     # the fabric moves in 3D (fabric_dolfinx.membrane3d)
+    [space]                     # the fabric moves in 3D (fabric_dolfinx.membrane.loads)
     stabilization = 0.0         # N/mm^3, optional normal stabilization
     course = "around"           # gmsh surfaces in space only: course around/along the axis
     axis = [0.0, 0.0, 1.0]
@@ -21,8 +21,8 @@ Problems go to the caller's list, one per key; no DOLFINx here. docs/scenes.md.
 
 import math
 
-from fabric_dolfinx.part_spec import MeshSpec
-from fabric_dolfinx.space_spec import COURSE_KINDS, INDENTER_SHAPES, IndenterSpec, SpaceSpec
+from fabric_dolfinx.spec.part import MeshSpec
+from fabric_dolfinx.spec.space import COURSE_KINDS, INDENTER_SHAPES, IndenterSpec, SpaceSpec
 from rve_rod.errors import InputError
 
 __all__ = [

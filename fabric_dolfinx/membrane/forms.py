@@ -20,7 +20,7 @@ already is a membrane law, `fabric_dolfinx.material`), P = F S and the weak form
 On a flat frame with 2 components this is the plane membrane (F T = (I + grad u) R, so the
 law sees R^T E R); with 3 components in-plane states equal it to round-off. The consistent
 tangent is the Gateaux derivative of R, assembled by the chain rule (see `membrane_forms`
-for why it is split). Loads in space (pressure, indenters) are in `fabric_dolfinx.membrane3d`.
+for why it is split). Loads in space (pressure, indenters) are in `fabric_dolfinx.membrane.loads`.
 """
 
 from collections.abc import Callable

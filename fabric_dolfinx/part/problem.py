@@ -1,10 +1,10 @@
 """A fabric part: its problem (forms, boundary conditions, load constants), its load path and
 what is recorded along it. One problem for every kind of part, plane or in space.
 
-`PartProblem` puts together a tagged mesh (`fabric_dolfinx.shapes`, or a curved surface in
-space), its regions (one material and course direction each, `fabric_dolfinx.regions`) and its
-boundary conditions (`fabric_dolfinx.boundary`, 2 or 3 components): the residual is the sum
-of the membrane forms of the regions (`membrane.membrane_forms`) minus the tractions and, for
+`PartProblem` puts together a tagged mesh (`fabric_dolfinx.mesh.shapes`, or a curved surface in
+space), its regions (one material and course direction each, `fabric_dolfinx.part.regions`) and its
+boundary conditions (`fabric_dolfinx.part.boundary`, 2 or 3 components): the residual is the sum
+of the membrane forms of the regions (`membrane.forms.membrane_forms`) minus the tractions and, for
 a part in space (`SpaceSpec`), minus the follower pressure, the indenter's contact and the
 normal stabilization. The shared `LoadStepper` solves it (load factor t from 0 to 1).
 `PartProblem.run` follows the path and records, at t = 0 and after every converged step,
@@ -23,7 +23,7 @@ exactly). After each stabilized step Newton runs once more without it, from the 
 state: where the fabric is taut this converges and the step is exact; where it cannot (slack
 or wrinkled zones) the stabilized state is kept and its force, c int |(u - u_n) . N| dA, is
 reported for the step: it must stay small against the loads. A flat part under pressure or
-indentation starts each step from flat with a one-mode dome (`fabric_dolfinx.dome`).
+indentation starts each step from flat with a one-mode dome (`fabric_dolfinx.part.dome`).
 """
 
 import logging
@@ -40,24 +40,24 @@ from dolfinx.io import XDMFFile
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from fabric_dolfinx.boundary import BoundaryLoads, LoadConstants
-from fabric_dolfinx.domain import StrainRangeCheck
-from fabric_dolfinx.dome import Dome
-from fabric_dolfinx.fields import PartFields
 from fabric_dolfinx.graded import graded_material
 from fabric_dolfinx.material import Material
-from fabric_dolfinx.membrane import material_frame, membrane_forms, membrane_state
-from fabric_dolfinx.membrane3d import (
+from fabric_dolfinx.membrane.forms import material_frame, membrane_forms, membrane_state
+from fabric_dolfinx.membrane.loads import (
     PlaneIndenter,
     SphereIndenter,
     contact_pressure,
     contact_residual,
     pressure_residual,
 )
-from fabric_dolfinx.mesh import TaggedMesh
-from fabric_dolfinx.part_spec import BoundaryCondition
-from fabric_dolfinx.probes import CellProbe
-from fabric_dolfinx.regions import Region, assign_regions, cell_field
+from fabric_dolfinx.mesh.surfaces import axis_fields
+from fabric_dolfinx.mesh.tagged import TaggedMesh
+from fabric_dolfinx.part.boundary import BoundaryLoads, LoadConstants
+from fabric_dolfinx.part.dome import Dome
+from fabric_dolfinx.part.fields import PartFields
+from fabric_dolfinx.part.probes import CellProbe
+from fabric_dolfinx.part.range_check import StrainRangeCheck
+from fabric_dolfinx.part.regions import Region, assign_regions, cell_field
 from fabric_dolfinx.solve import (
     LoadStepper,
     PathResult,
@@ -65,8 +65,8 @@ from fabric_dolfinx.solve import (
     boundary_indicator,
     with_history,
 )
-from fabric_dolfinx.space_spec import IndenterSpec, SpaceSpec
-from fabric_dolfinx.surfaces3d import axis_fields
+from fabric_dolfinx.spec.part import BoundaryCondition
+from fabric_dolfinx.spec.space import IndenterSpec, SpaceSpec
 from rve_rod.errors import InputError, check_integer
 
 __all__ = [

@@ -1,6 +1,6 @@
 """The specification of the patch tension test, without DOLFINx (the pipeline plans with it).
 
-`fabric_dolfinx.tension` runs it; `knitmech` builds and caches it without importing DOLFINx.
+`fabric_dolfinx.part.tension` runs it; `knitmech` builds and caches it without importing DOLFINx.
 """
 
 from dataclasses import dataclass

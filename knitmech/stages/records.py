@@ -5,7 +5,7 @@ with `from_json`, so `Record.from_json(record.to_json()) == record`. Records hol
 only: sequences are tuples, non-finite numbers are None (NaN reads as null in JSON), nested
 tables are dicts of the same; the constructor normalizes numpy values and lists to that.
 Every record here is dolfinx-free: `knitmech.stages` plans the macro stage with a
-`PatchJob`, and `knitmech.macro` (DOLFINx) runs it and returns a `PatchSummary`.
+`PatchJob`, and `knitmech.jobs.patch` (DOLFINx) runs it and returns a `PatchSummary`.
 """
 
 import dataclasses
@@ -15,7 +15,7 @@ from typing import Any, ClassVar, Self
 
 import numpy as np
 
-from fabric_dolfinx.tension_spec import TensionTest
+from fabric_dolfinx.spec.tension import TensionTest
 from rve_rod.jsonable import to_jsonable
 
 __all__ = [
@@ -181,7 +181,7 @@ class PatchJob(JsonRecord):
 
 @dataclass(frozen=True)
 class PatchSummary(JsonRecord):
-    """The patch tension test of one direction (`knitmech.macro.run_patch`); index 0 of every
+    """The patch tension test of one direction (`knitmech.jobs.patch.run_patch`); index 0 of every
     series is the unloaded state.
 
     Attributes:
@@ -197,7 +197,7 @@ class PatchSummary(JsonRecord):
         lateral_strain: (k+1,) change of the width across the middle over the size (-).
         poisson_ratio: (k+1,) -lateral_strain / strain (None at strain 0).
         gauge_strain: (k+1,) engineering strain along the load of the centre gauge
-            (`knitmech.macro.GAUGE_FRACTION` x size long, through the patch's centre) (-).
+            (`knitmech.jobs.patch.GAUGE_FRACTION` x size long, through the patch's centre) (-).
         gauge_lateral_strain: (k+1,) the same across the load (-).
         newton_iterations: (k,) per converged step.
         cutbacks: failed attempts retried with a smaller step.

@@ -11,8 +11,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.collections import PolyCollection
 
-from fabric_dolfinx.fields import PartFields
-from fabric_dolfinx.io import RVECurve
+from fabric_dolfinx.io.rve_curve import RVECurve
+from fabric_dolfinx.part.fields import PartFields
 
 __all__ = [
     "plot_cell_field",

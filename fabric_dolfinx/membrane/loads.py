@@ -1,6 +1,6 @@
 """Loads of a membrane in space: the follower pressure and rigid indenters.
 
-The membrane itself (frames, kinematics, stresses, forms) is `fabric_dolfinx.membrane`, the
+The membrane itself (frames, kinematics, stresses, forms) is `fabric_dolfinx.membrane.forms`, the
 same for plane parts and parts in space; this module adds the loads that need a third
 component (lengths mm):
 
@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 import ufl
 
-from fabric_dolfinx.membrane import MaterialFrame, deformation_gradient
+from fabric_dolfinx.membrane.forms import MaterialFrame, deformation_gradient
 from rve_rod.errors import InputError, check_positive
 
 __all__ = [

@@ -14,11 +14,11 @@ import logging
 from pathlib import Path
 from typing import NamedTuple
 
-from knitmech.fabric_job_spec import FabricJob, RegionMaterial
+from knitmech.jobs.fabric_spec import FabricJob, RegionMaterial
 from knitmech.jobs.launch import run_job
-from knitmech.scene_fabric import region_knit
-from knitmech.stage_cache import Stage
+from knitmech.scene.fabric import region_knit
 from knitmech.stages import STAGE_VERSION, SURFACE_FILE, RunPlan, file_digest
+from knitmech.stages.cache import Stage
 from rve_rod.presets import Fabric, make_fabric
 
 __all__ = [

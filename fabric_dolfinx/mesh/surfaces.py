@@ -5,7 +5,7 @@
   With `quarter=True` only the quadrant x, y >= 0, with the two more boundaries "x0" (the
   edge in the plane x = 0) and "y0" (in y = 0) for symmetry conditions.
 
-`axis_fields` gives the course and normal-side fields `membrane.curved_frame` needs for
+`axis_fields` gives the course and normal-side fields `membrane.forms.curved_frame` needs for
 surfaces around an axis: the course around the axis (a tube's circumference, the default of
 the tube) or along it, the normal pointing away from the axis. Lengths mm.
 """
@@ -17,7 +17,7 @@ import numpy as np
 import ufl
 from mpi4py import MPI
 
-from fabric_dolfinx.mesh import TaggedMesh, mesh_gmsh_model
+from fabric_dolfinx.mesh.tagged import TaggedMesh, mesh_gmsh_model
 from rve_rod.errors import check_positive
 
 __all__ = [

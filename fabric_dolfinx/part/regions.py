@@ -18,9 +18,9 @@ import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
 
-from fabric_dolfinx.field_expression import FieldExpression
 from fabric_dolfinx.material import Material
-from fabric_dolfinx.mesh import TaggedMesh
+from fabric_dolfinx.mesh.tagged import TaggedMesh
+from fabric_dolfinx.spec.expression import FieldExpression
 from rve_rod.errors import InputError
 
 __all__ = [

@@ -1,5 +1,5 @@
 """Input of membrane comparisons: the RVE's uniaxial curve as `rve-rod simulate --json`
-prints it (the cell fields and their XDMF output are `fabric_dolfinx.fields`)."""
+prints it (the cell fields and their XDMF output are `fabric_dolfinx.part.fields`)."""
 
 import json
 from pathlib import Path

@@ -1,14 +1,14 @@
 """The job of the fabric stage, without DOLFINx (the pipeline plans and caches with it).
 
-`knitmech.fabric_job` runs it (in-process or under mpirun, after a JSON round trip).
+`knitmech.jobs.fabric` runs it (in-process or under mpirun, after a JSON round trip).
 """
 
 import dataclasses
 from dataclasses import dataclass
 
-from fabric_dolfinx.part_spec import BoundaryCondition, MeshSpec
-from fabric_dolfinx.space_spec import IndenterSpec, SpaceSpec
-from knitmech.scene_fabric import PartSpec, RegionSpec
+from fabric_dolfinx.spec.part import BoundaryCondition, MeshSpec
+from fabric_dolfinx.spec.space import IndenterSpec, SpaceSpec
+from knitmech.scene.fabric import PartSpec, RegionSpec
 from rve_rod.jsonable import to_jsonable
 
 __all__ = ["FabricJob", "RegionMaterial"]

@@ -18,7 +18,7 @@
     kind = "displacement"
     displacement = [0.0, 20.0]  # mm at the end of the load path
 
-A scene with a shape or mesh runs the fabric stage (`knitmech.fabric_job`) instead of the
+A scene with a shape or mesh runs the fabric stage (`knitmech.jobs.fabric`) instead of the
 patch tension tests of `[macro]` (whose `steps` and `ranks` it uses). Reading collects every
 problem into the caller's list, naming the key (`fabric.shape.width`, `region[2].angle`,
 `boundary[1].kind`); no DOLFINx here. docs/scenes.md describes every key.
@@ -32,8 +32,8 @@ from typing import Any
 
 import numpy as np
 
-from fabric_dolfinx.field_expression import FieldExpression
-from fabric_dolfinx.part_spec import (
+from fabric_dolfinx.spec.expression import FieldExpression
+from fabric_dolfinx.spec.part import (
     BOUNDARY_KINDS,
     COMPONENTS,
     SHAPE_DIMENSIONS,
@@ -45,8 +45,8 @@ from fabric_dolfinx.part_spec import (
     shape_points,
     shape_size,
 )
-from fabric_dolfinx.space_spec import SpaceSpec
-from knitmech.scene_space import read_space, space_toml
+from fabric_dolfinx.spec.space import SpaceSpec
+from knitmech.scene.space import read_space, space_toml
 from rve_rod.errors import InputError
 from rve_rod.presets import load_preset, make_fabric, stitch_values
 
@@ -112,7 +112,7 @@ class PartSpec:
         boundaries: the boundary conditions.
         probes: name -> (x, y) mm, points whose cell's strain, stress and shear angle are
             recorded every step.
-        space: the membrane in space and its loads (`knitmech.scene_space`), or None for
+        space: the membrane in space and its loads (`knitmech.scene.space`), or None for
             the plane-stress membrane.
     """
 
