@@ -17,6 +17,7 @@ from typing import Any
 from knitmech.fidelity import DEFAULT, LEVELS, Fidelity
 from knitmech.scene.fabric import PartSpec, part_toml, read_part
 from knitmech.scene.fabric import toml_value as _toml_value
+from knitmech.scene.keys import describe, unknown_key
 from knitmech.scene.space import SPACE_TABLES
 from rve_rod import limits
 from rve_rod.errors import InputError
@@ -248,14 +249,12 @@ def scene_from_dict(data: dict, source: str = "<dict>", base: Path | None = None
         if key in sections or key in ("region", "boundary", "probe", *SPACE_TABLES):
             continue
         if key not in ("name", "fidelity"):
-            problems.append(
-                f"{key}: unknown key (valid: name, fidelity, {', '.join(sections)}, region, "
-                f"boundary, probe, {', '.join(SPACE_TABLES)})"
-            )
+            valid = ("name", "fidelity", *sections, "region", "boundary", "probe", *SPACE_TABLES)
+            problems.append(unknown_key(key, valid))
             continue
         top[key] = value
     if not isinstance(top.get("name", ""), str):
-        problems.append(f"name: expected a string, got {_describe(top['name'])}")
+        problems.append(f"name: expected a string, got {describe(top['name'])}")
     fidelity = top.get("fidelity", "balanced")
     if fidelity not in FIDELITY_NAMES:
         problems.append(f"fidelity: {fidelity!r} is not one of {', '.join(FIDELITY_NAMES)}")
@@ -263,7 +262,7 @@ def scene_from_dict(data: dict, source: str = "<dict>", base: Path | None = None
     for name, cls in sections.items():
         table = data.get(name, {})
         if not isinstance(table, dict):
-            problems.append(f"{name}: expected a table, got {_describe(table)}")
+            problems.append(f"{name}: expected a table, got {describe(table)}")
             table = {}
         parts[name] = _read_section(name, cls, table, problems)
     _check_values(parts, problems, base, part)
@@ -323,7 +322,7 @@ def _read_section(name: str, cls: type, table: dict, problems: list[str]):
     values = {}
     for key, raw in table.items():
         if key not in valid:
-            problems.append(f"{name}.{key}: unknown key (valid: {', '.join(valid)})")
+            problems.append(unknown_key(f"{name}.{key}", valid))
             continue
         expected = _TYPES[name][key]
         value = raw
@@ -331,7 +330,7 @@ def _read_section(name: str, cls: type, table: dict, problems: list[str]):
             value = float(raw)
         if isinstance(value, bool) or not isinstance(value, expected):
             wanted = " or ".join(t.__name__ for t in expected)
-            problems.append(f"{name}.{key}: expected {wanted}, got {_describe(value)}")
+            problems.append(f"{name}.{key}: expected {wanted}, got {describe(value)}")
             continue
         if isinstance(value, float) and not math.isfinite(value):
             problems.append(f"{name}.{key}: {value} is not a finite number")
@@ -434,10 +433,6 @@ def _no_knit(part: PartSpec) -> str:
         "wale_width, course_height, yarn_radius and youngs_modulus, or the region a preset, "
         "surface or svk"
     )
-
-
-def _describe(value: Any) -> str:
-    return f"{type(value).__name__} {value!r}"
 
 
 def _to_plain(value: Any) -> Any:

@@ -46,6 +46,7 @@ from fabric_dolfinx.spec.part import (
     shape_size,
 )
 from fabric_dolfinx.spec.space import SpaceSpec
+from knitmech.scene.keys import check_keys, number
 from knitmech.scene.space import read_space, space_toml
 from rve_rod.errors import InputError
 from rve_rod.presets import load_preset, make_fabric, stitch_values
@@ -230,7 +231,7 @@ def _read_probes(value, problems: list[str]) -> dict[str, tuple[float, float]]:
     probes = {}
     for index, table in enumerate(_tables("probe", value, problems)):
         prefix = f"probe[{index}]"
-        _unknown(prefix, table, ("name", "x", "y"), problems)
+        check_keys(prefix, table, ("name", "x", "y"), problems)
         name = table.get("name")
         if not isinstance(name, str) or not name or name in probes:
             problems.append(f"{prefix}.name: required, a name of its own, got {name!r}")
@@ -311,23 +312,6 @@ def _tables(key: str, value, problems: list[str]) -> list[dict]:
     return value
 
 
-def _number(key: str, value, problems: list[str], low=0.0, high=math.inf) -> float | None:
-    """A float in (low, high], or a problem naming `key`."""
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        problems.append(f"{key}: expected a number, got {type(value).__name__} {value!r}")
-        return None
-    if not (math.isfinite(value) and low < value <= high):
-        problems.append(f"{key}: {value} is outside the valid range ({low}, {high}]")
-        return None
-    return float(value)
-
-
-def _unknown(prefix: str, table: dict, valid, problems: list[str]) -> None:
-    for key in table:
-        if key not in valid:
-            problems.append(f"{prefix}.{key}: unknown key (valid: {', '.join(valid)})")
-
-
 def _read_shape(table, problems: list[str]) -> MeshSpec | None:
     if not isinstance(table, dict):
         problems.append("fabric.shape: expected a table ([fabric.shape])")
@@ -337,16 +321,16 @@ def _read_shape(table, problems: list[str]) -> MeshSpec | None:
         problems.append(f"fabric.shape.kind: {kind!r} is not one of {', '.join(SHAPES)}")
         return None
     valid = ("kind", *SHAPE_DIMENSIONS[kind], "element_size", "refinements")
-    _unknown("fabric.shape", table, valid, problems)
+    check_keys("fabric.shape", table, valid, problems)
     dimensions = {}
     for key in SHAPE_DIMENSIONS[kind]:
         if key in table:
-            value = _number(f"fabric.shape.{key}", table[key], problems, high=1e5)
+            value = number(f"fabric.shape.{key}", table[key], problems, low=0.0, high=1e5)
             if value is not None:
                 dimensions[key] = value
     size = None
     if "element_size" in table:
-        size = _number("fabric.shape.element_size", table["element_size"], problems, high=1e4)
+        size = number("fabric.shape.element_size", table["element_size"], problems, 0.0, 1e4)
     refinements = _refinements("fabric.shape", table, problems)
     try:
         spec = MeshSpec(kind, dimensions, element_size=size, refinements=refinements)
@@ -375,7 +359,7 @@ def _read_mesh(table, problems: list[str], base: Path | None) -> MeshSpec | None
     if not isinstance(table, dict):
         problems.append("fabric.mesh: expected a table ([fabric.mesh] file = ...)")
         return None
-    _unknown("fabric.mesh", table, ("file", "parameters", "refinements"), problems)
+    check_keys("fabric.mesh", table, ("file", "parameters", "refinements"), problems)
     file = table.get("file")
     if not isinstance(file, str):
         problems.append(f"fabric.mesh.file: expected a .geo or .msh file name, got {file!r}")
@@ -403,7 +387,7 @@ def _read_mesh(table, problems: list[str], base: Path | None) -> MeshSpec | None
 def _read_region(index: int, table: dict, problems: list[str], base: Path | None) -> RegionSpec:
     prefix = f"region[{index}]"
     valid = ("name", "where", "angle", "surface", "svk", *KNIT_KEYS)
-    _unknown(prefix, table, valid, problems)
+    check_keys(prefix, table, valid, problems)
     name = table.get("name")
     if not isinstance(name, str) or not name:
         problems.append(f"{prefix}.name: required, a physical surface or a new name with where")
@@ -441,7 +425,7 @@ def _read_region(index: int, table: dict, problems: list[str], base: Path | None
             problems.append(f"{prefix}.{'stitch' if 'stitch' in str(error) else 'preset'}: {error}")
     for key in KNIT_KEYS[1:]:
         if key in knit:
-            value = _number(
+            value = number(
                 f"{prefix}.{key}", knit[key], problems, low=-1.0 if key == "poissons_ratio" else 0.0
             )
             knit[key] = value
@@ -455,7 +439,7 @@ def _read_svk(prefix: str, table, problems: list[str]) -> dict[str, float] | Non
         return None
     from fabric_dolfinx.material import OrthotropicSVK  # noqa: PLC0415 (ufl only for SVK)
 
-    _unknown(f"{prefix}.svk", table, SVK_KEYS, problems)
+    check_keys(f"{prefix}.svk", table, SVK_KEYS, problems)
     values = {k: table[k] for k in SVK_KEYS if k in table}
     try:
         OrthotropicSVK(**values)
@@ -480,7 +464,7 @@ def _expression(key: str, text, problems: list[str]) -> str | None:
 def _read_boundary(index: int, table: dict, problems: list[str]) -> BoundaryCondition | None:
     prefix = f"boundary[{index}]"
     valid = ("name", "kind", "displacement", "traction", "component", "value")
-    _unknown(prefix, table, valid, problems)
+    check_keys(prefix, table, valid, problems)
     name = table.get("name")
     if not isinstance(name, str) or not name:
         problems.append(f"{prefix}.name: required, a physical curve of the mesh")

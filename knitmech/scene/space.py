@@ -19,10 +19,9 @@
 Problems go to the caller's list, one per key; no DOLFINx here. docs/scenes.md.
 """
 
-import math
-
 from fabric_dolfinx.spec.part import MeshSpec
 from fabric_dolfinx.spec.space import COURSE_KINDS, INDENTER_SHAPES, IndenterSpec, SpaceSpec
+from knitmech.scene.keys import check_keys, number, triple
 from rve_rod.errors import InputError
 
 __all__ = [
@@ -32,31 +31,6 @@ __all__ = [
 
 SPACE_TABLES = ("space", "pressure", "indenter")
 """Top-level scene tables of the membrane in space."""
-
-
-def _unknown(prefix: str, table: dict, valid, problems: list[str]) -> None:
-    for key in table:
-        if key not in valid:
-            problems.append(f"{prefix}.{key}: unknown key (valid: {', '.join(valid)})")
-
-
-def _triple(key: str, value, problems: list[str]):
-    if (
-        not isinstance(value, list)
-        or len(value) != 3
-        or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in value)
-        or not all(math.isfinite(v) for v in value)
-    ):
-        problems.append(f"{key}: expected three numbers [x, y, z], got {value!r}")
-        return None
-    return tuple(float(v) for v in value)
-
-
-def _number(key: str, value, problems: list[str]):
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        problems.append(f"{key}: expected a number, got {value!r}")
-        return None
-    return float(value)
 
 
 def read_space(data: dict, mesh: MeshSpec | None, problems: list[str]) -> SpaceSpec | None:
@@ -85,13 +59,13 @@ def read_space(data: dict, mesh: MeshSpec | None, problems: list[str]) -> SpaceS
         return None
     count = len(problems)
     valid = ("stabilization", "course", "axis", "axis_point")
-    _unknown("space", space, valid, problems)
+    check_keys("space", space, valid, problems)
     values = {}
     if "stabilization" in space:
-        values["stabilization"] = _number("space.stabilization", space["stabilization"], problems)
+        values["stabilization"] = number("space.stabilization", space["stabilization"], problems)
     for key in ("axis", "axis_point"):
         if key in space:
-            values[key] = _triple(f"space.{key}", space[key], problems)
+            values[key] = triple(f"space.{key}", space[key], problems)
     course = space.get("course")
     if course is not None and course not in COURSE_KINDS:
         problems.append(f"space.course: {course!r} is not one of {', '.join(COURSE_KINDS)}")
@@ -104,13 +78,13 @@ def read_space(data: dict, mesh: MeshSpec | None, problems: list[str]) -> SpaceS
         problems.append("space.course: only for a gmsh surface ([fabric.mesh])")
     values["course"] = course
     if pressure is not None:
-        _unknown("pressure", pressure, ("value",), problems)
-        values["pressure"] = _number("pressure.value", pressure.get("value"), problems)
+        check_keys("pressure", pressure, ("value",), problems)
+        values["pressure"] = number("pressure.value", pressure.get("value"), problems)
     if indenter is not None:
         shape = indenter.get("shape", "sphere")
         placing = INDENTER_SHAPES.get(shape, ()) if isinstance(shape, str) else ()
         valid = ("shape", *placing, "travel", "penalty")
-        _unknown("indenter", indenter, valid, problems)
+        check_keys("indenter", indenter, valid, problems)
         values["indenter"] = _indenter(indenter, problems, count)
     if len(problems) > count:
         return None
@@ -126,10 +100,10 @@ def _indenter(table: dict, problems: list[str], count: int) -> IndenterSpec | No
     spec = {key: value for key, value in table.items() if key == "shape"}
     for key in ("centre", "point", "normal", "travel"):
         if key in table or key == "travel":
-            spec[key] = _triple(f"indenter.{key}", table.get(key), problems)
+            spec[key] = triple(f"indenter.{key}", table.get(key), problems)
     for key in ("radius", "penalty"):
         if key in table:
-            spec[key] = _number(f"indenter.{key}", table[key], problems)
+            spec[key] = number(f"indenter.{key}", table[key], problems)
     if len(problems) > count:
         return None
     try:

@@ -97,7 +97,7 @@ def test_bad_values_in_space_name_their_key():
     assert "space.twist: unknown key (valid: stabilization, course, axis, axis_point)" in problems
     assert "indenter.centre: expected three numbers [x, y, z], got [0.0, 0.0]" in problems
     assert problems_of({**BASE, "space": {}, "pressure": {"value": "high"}}) == [
-        "pressure.value: expected a number, got 'high'"
+        "pressure.value: expected a number, got str 'high'"
     ]
     assert problems_of({**BASE, "space": {"axis": [0, 0, 0]}}) == [
         "space: axis=(0, 0, 0) has no direction"
