@@ -123,6 +123,33 @@ def test_the_pipeline_imports_nothing_from_a_command_line(cli):
     assert {name: found for name, found in offenders.items() if found} == {}
 
 
+FABRIC_USES_OF_RVE_ROD = {
+    "rve_rod.surface",  # the surface file and its law: the contract between the scales
+    "rve_rod.stepping",  # the load-step controller both scales share
+    "rve_rod.errors",
+    "rve_rod.limits",
+    "rve_rod.units",
+    "rve_rod.help_format",  # the command line's
+    "rve_rod.log_setup",
+    "rve_rod.outputs",
+}
+"""What `fabric_dolfinx` may use of `rve_rod` (its package docstring says the same)."""
+
+
+def test_fabric_dolfinx_uses_only_the_named_rve_rod_modules():
+    modules = project_modules()
+    known = frozenset(modules)
+    used = {
+        imported
+        for name, path in modules.items()
+        if name.split(".")[0] == "fabric_dolfinx"
+        for imported in imported_names(path, modules=known)
+        if imported.split(".")[0] == "rve_rod"
+    }
+    assert used <= FABRIC_USES_OF_RVE_ROD, sorted(used - FABRIC_USES_OF_RVE_ROD)
+    assert FABRIC_USES_OF_RVE_ROD <= used, sorted(FABRIC_USES_OF_RVE_ROD - used)
+
+
 def test_no_module_imports_itself_through_others():
     """Imports inside functions count too: a lazy import only hides a cycle."""
     assert find_cycle(import_graph()) == []
