@@ -59,8 +59,8 @@ from fabric_dolfinx.part.probes import CellProbe
 from fabric_dolfinx.part.range_check import StrainRangeCheck
 from fabric_dolfinx.part.regions import Region, assign_regions, cell_field
 from fabric_dolfinx.solve import (
+    LoadPath,
     LoadStepper,
-    PathResult,
     SolverOptions,
     boundary_indicator,
     with_history,
@@ -171,7 +171,7 @@ class PartResult(NamedTuple):
     dofs: int
     ranks: int
     wall_time_s: float
-    path: PathResult
+    path: LoadPath
 
 
 def space_solver_options(steps: int) -> SolverOptions:
@@ -506,7 +506,7 @@ class PartProblem:
             if on_step is not None:
                 on_step(label(step.load_factor), cell_fields)
 
-        def follow(output: XDMFFile | None) -> PathResult:
+        def follow(output: XDMFFile | None) -> LoadPath:
             record(0.0, output)
             return self.stepper.run(
                 self.set_load_factor,
@@ -514,20 +514,20 @@ class PartProblem:
                 finish_step=self.release_stabilization,
             )
 
-        def solve() -> PathResult:
+        def solve() -> LoadPath:
             if xdmf is None:
                 return follow(None)
             with XDMFFile(self.tagged.mesh.comm, str(xdmf), "w") as output:
                 output.write_mesh(self.tagged.mesh)
                 return follow(output)
 
-        def result(path: PathResult) -> PartResult:
+        def result(path: LoadPath) -> PartResult:
             return self._result(path, load_factors, history, outside, time.perf_counter() - start)
 
         return with_history(solve, result)
 
     def _result(
-        self, path: PathResult, load_factors, history, outside, wall_time: float
+        self, path: LoadPath, load_factors, history, outside, wall_time: float
     ) -> PartResult:
         count = len(path.steps) + 1
         load_factor = np.array(load_factors[:count])

@@ -22,7 +22,7 @@ from fabric_dolfinx.mesh.shapes import make_mesh
 from fabric_dolfinx.part.fields import PartFields
 from fabric_dolfinx.part.problem import Observer, PartProblem, PartResult
 from fabric_dolfinx.part.regions import Region
-from fabric_dolfinx.solve import PathResult, SolverOptions, with_history
+from fabric_dolfinx.solve import LoadPath, SolverOptions, with_history
 from fabric_dolfinx.spec.part import BoundaryCondition, MeshSpec
 from fabric_dolfinx.spec.tension import DIRECTIONS, TensionTest
 from rve_rod.units import n_per_mm_to_gf_per_cm
@@ -65,7 +65,7 @@ class TensionResult(NamedTuple):
     cutbacks: int
     outside_domain: bool
     observed: dict[str, list]
-    path: PathResult
+    path: LoadPath
 
 
 def tension_part(test: TensionTest) -> tuple[MeshSpec, tuple[BoundaryCondition, ...]]:

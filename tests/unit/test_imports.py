@@ -211,3 +211,17 @@ def test_public_modules_declare_what_they_export():
         elif set(declared) - defined:
             undefined[name] = sorted(set(declared) - defined)
     assert missing == [] and undefined == {}
+
+
+def test_the_two_solvers_name_their_records_apart():
+    """The RVE's Newton (`rve_rod.newton`) and the membrane's (`fabric_dolfinx.solve`) have
+    records with different fields: no class name may stand in both."""
+    modules = project_modules()
+
+    def classes(name: str) -> set[str]:
+        tree = ast.parse(modules[name].read_text(encoding="utf-8"))
+        return {node.name for node in tree.body if isinstance(node, ast.ClassDef)}
+
+    rve, membrane = classes("rve_rod.newton"), classes("fabric_dolfinx.solve")
+    assert {"StepRecord", "PathResult"} <= rve and {"LoadStep", "LoadPath"} <= membrane
+    assert rve.isdisjoint(membrane), sorted(rve & membrane)
