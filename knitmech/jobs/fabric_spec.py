@@ -6,9 +6,8 @@
 import dataclasses
 from dataclasses import dataclass
 
-from fabric_dolfinx.spec.part import BoundaryCondition, MeshSpec
-from fabric_dolfinx.spec.space import IndenterSpec, SpaceSpec
-from knitmech.scene.fabric import PartSpec, RegionSpec
+from knitmech.scene.fabric import PartSpec
+from knitmech.stages.records import from_json_data
 from rve_rod.jsonable import to_jsonable
 
 __all__ = ["FabricJob", "RegionMaterial"]
@@ -54,45 +53,5 @@ class FabricJob:
 
     @classmethod
     def from_json(cls, data: dict) -> "FabricJob":
-        part = data["part"]
-        boundaries = tuple(
-            BoundaryCondition(**{**b, "vector": tuple(b["vector"])}) for b in part["boundaries"]
-        )
-        return cls(
-            part=PartSpec(
-                mesh=MeshSpec(**part["mesh"]),
-                regions=tuple(
-                    RegionSpec(**{**r, "members": tuple(r["members"])}) for r in part["regions"]
-                ),
-                boundaries=boundaries,
-                probes={k: tuple(v) for k, v in part["probes"].items()},
-                space=_space(part.get("space")),
-            ),
-            materials=tuple(
-                RegionMaterial(
-                    **{**m, "family": tuple(map(tuple, m["family"])) if m["family"] else None}
-                )
-                for m in data["materials"]
-            ),
-            steps=data["steps"],
-            element_degree=data["element_degree"],
-        )
-
-
-def _space(data: dict | None) -> SpaceSpec | None:
-    if data is None:
-        return None
-    indenter = data["indenter"]
-    if indenter is not None:
-        vectors = ("centre", "point", "normal", "travel")
-        indenter = IndenterSpec(
-            **{k: tuple(v) if k in vectors and v is not None else v for k, v in indenter.items()}
-        )
-    return SpaceSpec(
-        **{
-            **data,
-            "indenter": indenter,
-            "axis": tuple(data["axis"]),
-            "axis_point": tuple(data["axis_point"]),
-        }
-    )
+        """The job of `to_json`'s dict."""
+        return from_json_data(cls, data)

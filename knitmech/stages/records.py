@@ -10,6 +10,8 @@ Every record here is dolfinx-free: `knitmech.stages` plans the macro stage with 
 
 import dataclasses
 import math
+import types
+import typing
 from dataclasses import dataclass
 from typing import Any, ClassVar, Self
 
@@ -20,10 +22,12 @@ from rve_rod.jsonable import to_jsonable
 
 __all__ = [
     "GeometrySummary",
+    "JsonRecord",
     "MesoSummary",
     "PatchJob",
     "PatchSummary",
     "SurfaceSummary",
+    "from_json_data",
 ]
 
 
@@ -38,6 +42,37 @@ def _frozen(value: Any) -> Any:
     if isinstance(value, float) and not math.isfinite(value):
         return None
     return value
+
+
+def from_json_data(kind: Any, data: Any) -> Any:
+    """`data` (JSON values: dicts, lists, numbers, strings, None) read as the type `kind`:
+    a dataclass field by field from its type hints (nested ones too; missing keys take their
+    defaults), a tuple from a list, a dict's values by their type, `X | None` as X unless
+    None; anything else as it is. The one reader of every JSON round trip of the pipeline."""
+    if data is None:
+        return None
+    if typing.get_origin(kind) in (types.UnionType, typing.Union):
+        kind = next((option for option in typing.get_args(kind) if _reads(option, data)), Any)
+    origin, arguments = typing.get_origin(kind), typing.get_args(kind)
+    if dataclasses.is_dataclass(kind) and isinstance(data, dict):
+        hints = typing.get_type_hints(kind)
+        values = {f.name: data[f.name] for f in dataclasses.fields(kind) if f.name in data}
+        return kind(**{name: from_json_data(hints[name], value) for name, value in values.items()})
+    if origin is tuple and isinstance(data, list | tuple):
+        if len(arguments) == 2 and arguments[1] is Ellipsis:
+            arguments = (arguments[0],) * len(data)
+        return tuple(from_json_data(a, item) for a, item in zip(arguments, data, strict=True))
+    if origin is dict and isinstance(data, dict):
+        return {key: from_json_data(arguments[1], item) for key, item in data.items()}
+    return data
+
+
+def _reads(kind: Any, data: Any) -> bool:
+    """Whether `from_json_data` builds a `kind` of `data` (a dataclass of a dict, a tuple of a
+    list, a dict of a dict), choosing among the options of a union."""
+    if dataclasses.is_dataclass(kind):
+        return isinstance(data, dict)
+    return {tuple: list, dict: dict}.get(typing.get_origin(kind)) is type(data)
 
 
 class JsonRecord:
@@ -64,7 +99,7 @@ class JsonRecord:
     @classmethod
     def from_json(cls, data: dict[str, Any]) -> Self:
         """The record of `to_json`'s dict (keys it lacks take their defaults)."""
-        return cls(**data)
+        return from_json_data(cls, data)
 
 
 @dataclass(frozen=True)
@@ -165,10 +200,6 @@ class PatchJob(JsonRecord):
     test: TensionTest
     steps: int
     field_step: int
-
-    def __post_init__(self):
-        if isinstance(self.test, dict):
-            object.__setattr__(self, "test", TensionTest(**self.test))
 
     def to_json(self) -> dict[str, Any]:
         return to_jsonable({**dataclasses.asdict(self), "test": dataclasses.asdict(self.test)})
