@@ -87,9 +87,8 @@ uniaxial = {
 rve = read_rve_curve(args.rve_curve) if args.rve_curve else None
 curves = {f"patch, {d}-wise": (results[d].strain, results[d].force_gf_per_cm) for d in results}
 references = {f"material alone, uniaxial {d}": (strain, uniaxial[d]) for d in uniaxial}
-plot_force_strain(curves, output / "force_strain.png", rve, comm, references)
-
 if comm.rank == 0:
+    plot_force_strain(curves, output / "force_strain.png", rve, references)
     print(f"patch tension: {args.elements} x {args.elements} elements, {comm.size} rank(s)")
     print(f"{'strain (%)':>10} {'course (gf/cm)':>15} {'wale (gf/cm)':>13} {'uniaxial c/w':>16}")
     for row in zip(

@@ -153,11 +153,11 @@ def run_tension_command(args: argparse.Namespace) -> int:
 def _report(args, test, material_name, result, *, converged, rve) -> None:
     """Print (rank 0) and plot the force-strain curve of `result`."""
     comm = MPI.COMM_WORLD
-    if args.plot:
-        curves = {f"membrane, {test.direction}": (result.strain, result.force_gf_per_cm)}
-        plot_force_strain(curves, args.plot, rve=rve, comm=comm)
     if comm.rank != 0:
         return
+    if args.plot:
+        curves = {f"membrane, {test.direction}": (result.strain, result.force_gf_per_cm)}
+        plot_force_strain(curves, args.plot, rve=rve)
     ignore_broken_pipe()
     if args.json:
         payload = {

@@ -126,7 +126,7 @@ def check_plan(
         raise SceneError(repr(plan.scene.name), problems)
 
 
-def run_scene(
+def run_scene(  # noqa: PLR0913 (the scene and the keyword options of `knitmech run`)
     scene: Scene,
     *,
     fidelity: str | None = None,

@@ -237,7 +237,7 @@ def rod_engine(plan: RunPlan) -> RodRve:
     return RodRve(plan.rve)
 
 
-def run_sweep(
+def run_sweep(  # noqa: PLR0913 (the sweep and the keyword options of `knitmech sweep`)
     sweep: Sweep,
     output: str | Path = "sweep",
     *,

@@ -1,7 +1,7 @@
 """Figures of membrane results: force-strain curves and cell fields on the deformed mesh (PNG).
 
-Both functions are collective under MPI (cell data are gathered to rank 0, which draws and
-writes the file).
+`plot_cell_field` is collective under MPI (cell data are gathered to rank 0, which draws and
+writes the file); `plot_force_strain` draws what it is given (call it on one rank).
 """
 
 from collections.abc import Mapping
@@ -24,7 +24,6 @@ def plot_force_strain(
     curves: Mapping[str, tuple[np.ndarray, np.ndarray]],
     path: Path | str,
     rve: RVECurve | None = None,
-    comm=None,
     references: Mapping[str, tuple[np.ndarray, np.ndarray]] | None = None,
     *,
     title: str = "",
@@ -35,13 +34,10 @@ def plot_force_strain(
     Args:
         curves: label -> (strain (k,), force_gf_per_cm (k,)), drawn with markers.
         rve: the RVE's uniaxial curve, drawn beside the membrane curves when given.
-        comm: only its rank 0 writes (None: the calling process writes).
         references: further curves drawn as thin dashed lines (e.g. the material alone).
         title: the figure's title (e.g. the fabric and the test), none if empty.
         xlabel: the strain axis' label.
     """
-    if comm is not None and comm.rank != 0:
-        return
     figure, axes = plt.subplots(figsize=(5.0, 3.6), dpi=110)
     for label, (strain, force) in curves.items():
         axes.plot(100 * np.asarray(strain), force, marker="o", markersize=3, label=label)

@@ -214,7 +214,7 @@ class PartProblem:
         course direction (radians); stitch: DG0 stitch value; stepper: the LoadStepper.
     """
 
-    def __init__(
+    def __init__(  # noqa: PLR0913 (a part's inputs: mesh, regions, conditions and 5 options)
         self,
         tagged: TaggedMesh,
         regions: Sequence[Region],
