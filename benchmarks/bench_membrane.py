@@ -37,9 +37,10 @@ from petsc4py import PETSc
 
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
 from fabric_dolfinx.membrane.forms import flat_frame, membrane_forms
-from fabric_dolfinx.mesh.tagged import plate_with_hole
+from fabric_dolfinx.mesh.shapes import make_mesh
 from fabric_dolfinx.part.tension import TensionSetup
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
+from fabric_dolfinx.spec.part import MeshSpec
 from fabric_dolfinx.spec.tension import TensionTest
 
 # the synthetic surface is a test fixture (tests/surface_cases.py)
@@ -214,7 +215,7 @@ def scaling_section(quick):
 
 def hole_reaction(degree, quadrature_degree, refinements):
     """Reaction (N) of the plate with a hole on rollers stretched by 10 % (see the test)."""
-    tagged = plate_with_hole(MPI.COMM_WORLD, element_size=5.0, refinements=refinements)
+    tagged = make_mesh(MeshSpec("plate_with_hole", element_size=5.0, refinements=refinements))
     domain = tagged.mesh
     space = fem.VectorFunctionSpace(domain, ("Lagrange", degree))
     u = fem.Function(space)

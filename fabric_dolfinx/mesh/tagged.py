@@ -19,13 +19,12 @@ import numpy as np
 from mpi4py import MPI
 
 from fabric_dolfinx.spec.part import physical_groups
-from rve_rod.errors import InputError, check_integer, check_positive
+from rve_rod.errors import InputError, check_integer
 
 __all__ = [
     "MESH_DIRECTORY",
     "TaggedMesh",
     "mesh_gmsh_model",
-    "plate_with_hole",
     "read_geo",
 ]
 
@@ -146,27 +145,3 @@ def mesh_gmsh_model(
         raise InputError(f"{source} did not give a quadrilateral mesh")
     boundaries, regions = groups
     return TaggedMesh(mesh, facet_tags, boundaries, cell_tags, regions)
-
-
-def plate_with_hole(
-    comm: MPI.Comm = MPI.COMM_WORLD,
-    *,
-    width: float = 50.0,
-    height: float = 50.0,
-    radius: float = 10.0,
-    element_size: float = 5.0,
-    refinements: int = 0,
-) -> TaggedMesh:
-    """Unstructured all-quad plate [0, width] x [0, height] mm with a central hole.
-
-    Boundaries: "left", "right", "bottom", "top", "hole". The element size halves with every
-    uniform refinement.
-    """
-    check_positive("width", width, "mm")
-    check_positive("height", height, "mm")
-    check_positive("element_size", element_size, "mm")
-    limit = 0.5 * min(width, height)
-    if not 0.0 < radius < limit:
-        raise InputError(f"radius={radius:.6g} mm is outside the valid range (0, {limit:.6g}) mm")
-    parameters = {"width": width, "height": height, "radius": radius, "size": element_size}
-    return read_geo(MESH_DIRECTORY / "plate_with_hole.geo", comm, parameters, refinements)

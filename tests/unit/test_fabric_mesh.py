@@ -6,7 +6,7 @@ from dolfinx.mesh import CellType
 from mesh_measures import integrate
 
 from fabric_dolfinx.mesh.shapes import make_mesh
-from fabric_dolfinx.mesh.tagged import MESH_DIRECTORY, plate_with_hole, read_geo
+from fabric_dolfinx.mesh.tagged import MESH_DIRECTORY, read_geo
 from fabric_dolfinx.spec.part import MeshSpec
 from rve_rod.errors import InputError
 
@@ -24,7 +24,9 @@ def test_rectangle_has_the_requested_elements_and_tagged_edges():
 def test_plate_with_hole_refines_towards_the_exact_geometry():
     """Area error of the polygonal hole falls by 4 per refinement (new nodes on the circle)."""
     exact_area = 50.0 * 50.0 - np.pi * 10.0**2
-    meshes = [plate_with_hole(element_size=10.0, refinements=r) for r in range(3)]
+    meshes = [
+        make_mesh(MeshSpec("plate_with_hole", element_size=10.0, refinements=r)) for r in range(3)
+    ]
     cells = [tagged.mesh.topology.index_map(2).size_global for tagged in meshes]
     assert cells[1] == 4 * cells[0] and cells[2] == 4 * cells[1]
     errors = np.array([integrate(tagged) - exact_area for tagged in meshes])
@@ -38,7 +40,10 @@ def test_plate_with_hole_refines_towards_the_exact_geometry():
 @pytest.mark.parametrize(
     ("make", "message"),
     [
-        (lambda: plate_with_hole(radius=25.0), "radius=25 mm is outside the valid range (0, 25)"),
+        (
+            lambda: make_mesh(MeshSpec("plate_with_hole", {"radius": 25.0})),
+            "radius=25 mm must be below half the plate's smaller side (25 mm)",
+        ),
         (lambda: MeshSpec("rectangle", element_size=0.0), "element_size=0 mm must be > 0"),
         (lambda: MeshSpec("rectangle", {"width": -5.0}), "width=-5 mm must be > 0"),
         (lambda: read_geo(MESH_DIRECTORY / "missing.geo"), "missing.geo does not exist"),

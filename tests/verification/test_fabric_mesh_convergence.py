@@ -5,14 +5,14 @@ import numpy as np
 import pytest
 from dolfinx import fem
 from dolfinx import mesh as dolfinx_mesh
-from mpi4py import MPI
 from petsc4py import PETSc
 from surface_cases import synthetic_surface
 
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.membrane.forms import flat_frame, membrane_forms
-from fabric_dolfinx.mesh.tagged import plate_with_hole
+from fabric_dolfinx.mesh.shapes import make_mesh
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
+from fabric_dolfinx.spec.part import MeshSpec
 
 MATERIAL = surface_material(synthetic_surface())
 ELEMENT_SIZE = 5.0  # mm, halved by every refinement
@@ -25,7 +25,9 @@ def stretched_plate_reaction(refinements: int) -> float:
     which only removes the rigid translation (its reaction is the total y force, zero). So no
     clamp corner singularity spoils the rate: the solution is smooth up to the hole boundary.
     """
-    tagged = plate_with_hole(MPI.COMM_WORLD, element_size=ELEMENT_SIZE, refinements=refinements)
+    tagged = make_mesh(
+        MeshSpec("plate_with_hole", element_size=ELEMENT_SIZE, refinements=refinements)
+    )
     domain = tagged.mesh
     space = fem.VectorFunctionSpace(domain, ("Lagrange", 1))
     u = fem.Function(space)

@@ -7,13 +7,11 @@ import numpy as np
 import pytest
 import ufl
 from dolfinx import fem
-from mpi4py import MPI
 from surface_cases import synthetic_surface
 
 from fabric_dolfinx.material import surface_material
 from fabric_dolfinx.membrane.forms import flat_frame, membrane_forms, membrane_state
 from fabric_dolfinx.mesh.shapes import make_mesh
-from fabric_dolfinx.mesh.tagged import plate_with_hole
 from fabric_dolfinx.part.tension import TensionSetup
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
 from fabric_dolfinx.spec.part import MeshSpec
@@ -83,7 +81,7 @@ class Membrane:
 
 @pytest.fixture(scope="module")
 def hole():
-    tagged = plate_with_hole(MPI.COMM_WORLD, element_size=10.0)
+    tagged = make_mesh(MeshSpec("plate_with_hole", element_size=10.0))
     return Membrane(tagged, ("left", "right", "bottom", "top", "hole"))
 
 
@@ -211,7 +209,7 @@ def test_orientation_90_degrees_exchanges_course_and_wale(direction):
 def test_spatially_varying_orientation_field():
     """A DG0 angle field (courses running around the hole): S at every quadrature point is the
     numpy surface stress rotated by that cell's angle."""
-    tagged = plate_with_hole(MPI.COMM_WORLD, element_size=10.0)
+    tagged = make_mesh(MeshSpec("plate_with_hole", element_size=10.0))
     domain = tagged.mesh
     space = fem.VectorFunctionSpace(domain, ("Lagrange", 1))
     u = fem.Function(space)
