@@ -43,9 +43,9 @@ from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
 from fabric_dolfinx.spec.part import MeshSpec
 from fabric_dolfinx.spec.tension import TensionTest
 
-# the synthetic surface is a test fixture (tests/surface_cases.py)
+# the synthetic surface is a test fixture (tests/support/surface_cases.py)
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from surface_cases import synthetic_surface
+from support.surface_cases import synthetic_surface
 
 MPI_ENV = {
     **os.environ,

@@ -16,7 +16,8 @@ each: DOFs, wall time (s, forms compiled beforehand), Newton iterations per step
 (mean/max) and cutbacks; each on 1 and on 2 MPI ranks (the 2-rank runs start this script
 under mpirun with --case and --elements).
 
-  hencky the full-resolution variant of tests/verification/test_membrane3d_hencky.py:
+  hencky the full-resolution variant of
+         tests/test_fabric_dolfinx/verification/test_membrane3d_hencky.py:
          central deflection error against Hencky's series down to 1.25 mm quads, with the
          observed convergence rate.
 
@@ -169,7 +170,7 @@ def penalty_table() -> None:
 
 
 def hencky_table() -> None:
-    sys.path.insert(0, str(ROOT / "tests" / "verification"))
+    sys.path.insert(0, str(ROOT / "tests" / "test_fabric_dolfinx" / "verification"))
     import test_membrane3d_hencky as hencky  # noqa: PLC0415 (the test's series and setup)
 
     expected = hencky.hencky_deflection()

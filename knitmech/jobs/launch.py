@@ -1,6 +1,6 @@
 """The launcher of the DOLFINx jobs: in this process alone, or under `mpirun -n ranks` in a
 process group of its own that is taken down as a whole on any interruption. No DOLFINx is
-imported here: a run is planned without it (`tests/unit/test_imports.py`).
+imported here: a run is planned without it (`tests/project/unit/test_imports.py`).
 """
 
 import contextlib
