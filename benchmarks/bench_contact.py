@@ -1,11 +1,11 @@
 """Cost of one contact evaluation at the knit-cell size, and what the broad phase saves.
 
-Scene: the loop of cotton 20s/2 at stitch 5.5 (rve_rod.geometry.loop: w = 1.33 mm,
-c = 1.26 mm, r0 = 0.19 mm, r = w/8 = 0.166 mm; tests/contact_scenes.py knit_loop) as 4 patches
-of degree 4 with 68 control points (272 collocation points), the compressible-yarn law of that
-yarn with E0 = 80 MPa, Coulomb friction mu = 0.15, periodic images as needed. The loop and its
-images are mapped affinely by the macro F (a load step's first guess): at F = I the yarns only
-touch; a 5 % compression and a 0.1 shear press them together. Prints
+Scene: the loop of cotton 20s/2 at stitch 5.5 (rve_rod.geometry.loop: w = 1.33 mm, c = 1.26 mm,
+r0 = 0.19 mm, r = w/8 = 0.166 mm; tests/support/contact_scenes.py knit_loop) as 4 patches of
+degree 4 with 68 control points (272 collocation points), the compressible-yarn law of that yarn
+with E0 = 80 MPa, Coulomb friction mu = 0.15, periodic images as needed. The loop and its images
+are mapped affinely by the macro F (a load step's first guess): at F = I the yarns only touch; a
+5 % compression and a 0.1 shear press them together. Prints
 
 1. time per evaluation: search and loads only, and loads plus both derivatives (residual +
    tangent), without and with friction, at F = I, compressed and sheared;
@@ -40,7 +40,7 @@ from rve_rod.geometry.loop import loop_geometry
 from rve_rod.presets import load_preset
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from contact_scenes import knit_loop  # the tests' scenes
+from support.contact_scenes import knit_loop  # the tests' scenes
 
 FABRIC = load_preset("cotton-20s2", 5.5)
 LOOP = loop_geometry(FABRIC.knit, FABRIC.yarn.minimal_radius)

@@ -36,15 +36,16 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
-from fabric_dolfinx.membrane import membrane_forms
-from fabric_dolfinx.mesh import plate_with_hole
+from fabric_dolfinx.membrane.forms import flat_frame, membrane_forms
+from fabric_dolfinx.mesh.shapes import make_mesh
+from fabric_dolfinx.part.tension import TensionSetup
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
-from fabric_dolfinx.tension import TensionSetup
-from fabric_dolfinx.tension_spec import TensionTest
+from fabric_dolfinx.spec.part import MeshSpec
+from fabric_dolfinx.spec.tension import TensionTest
 
-# the synthetic surface is a test fixture (tests/surface_cases.py)
+# the synthetic surface is a test fixture (tests/support/surface_cases.py)
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from surface_cases import synthetic_surface
+from support.surface_cases import synthetic_surface
 
 MPI_ENV = {
     **os.environ,
@@ -140,7 +141,7 @@ def compile_one(material, jacobian):
         _, degree, spans = material.split("-")
         surface = synthetic_surface(degree=int(degree), spans=int(spans))
         law = surface_material(surface).law
-    forms = membrane_forms(u, law, fem.Constant(domain, 0.3), 2)
+    forms = membrane_forms(u, law, flat_frame(domain, fem.Constant(domain, 0.3)), 2)
     form = forms.jacobian if jacobian == "chain-rule" else ufl.derivative(forms.residual, u)
     start = time.perf_counter()
     fem.form(form)
@@ -214,11 +215,13 @@ def scaling_section(quick):
 
 def hole_reaction(degree, quadrature_degree, refinements):
     """Reaction (N) of the plate with a hole on rollers stretched by 10 % (see the test)."""
-    tagged = plate_with_hole(MPI.COMM_WORLD, element_size=5.0, refinements=refinements)
+    tagged = make_mesh(MeshSpec("plate_with_hole", element_size=5.0, refinements=refinements))
     domain = tagged.mesh
     space = fem.VectorFunctionSpace(domain, ("Lagrange", degree))
     u = fem.Function(space)
-    forms = membrane_forms(u, surface_material(synthetic_surface()).law, 0.0, quadrature_degree)
+    forms = membrane_forms(
+        u, surface_material(synthetic_surface()).law, flat_frame(domain), quadrature_degree
+    )
     stretch = fem.Constant(domain, PETSc.ScalarType(0.0))
     corner = dolfinx_mesh.locate_entities_boundary(
         domain, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], 0.0)

@@ -11,12 +11,13 @@ Two cases on the shipped cotton 20s/2 stitch 5.5 surface, at the mesh of each fi
   tube   the tube of examples/tube_inflation.toml (radius 20 mm, length 80 mm, ends
          clamped, the example's pressure and steps): the largest displacement.
 
-Both with the solver settings of `knitmech` (`membrane3d_solve.space_solver_options`). For
+Both with the solver settings of `knitmech` (`part.problem.space_solver_options`). For
 each: DOFs, wall time (s, forms compiled beforehand), Newton iterations per step
 (mean/max) and cutbacks; each on 1 and on 2 MPI ranks (the 2-rank runs start this script
 under mpirun with --case and --elements).
 
-  hencky the full-resolution variant of tests/verification/test_membrane3d_hencky.py:
+  hencky the full-resolution variant of
+         tests/test_fabric_dolfinx/verification/test_membrane3d_hencky.py:
          central deflection error against Hencky's series down to 1.25 mm quads, with the
          observed convergence rate.
 
@@ -37,11 +38,11 @@ import numpy as np
 from mpi4py import MPI
 
 from fabric_dolfinx.material import surface_material
-from fabric_dolfinx.membrane3d import SphereIndenter
-from fabric_dolfinx.membrane3d_solve import Membrane3DProblem, Support, space_solver_options
-from fabric_dolfinx.part_spec import MeshSpec
-from fabric_dolfinx.shapes import make_mesh
-from fabric_dolfinx.surfaces3d import axis_fields
+from fabric_dolfinx.mesh.shapes import make_mesh
+from fabric_dolfinx.part.problem import PartProblem, space_solver_options
+from fabric_dolfinx.part.regions import Region
+from fabric_dolfinx.spec.part import BoundaryCondition, MeshSpec
+from fabric_dolfinx.spec.space import IndenterSpec, SpaceSpec
 from rve_rod.errors import ConvergenceError
 from rve_rod.surface import read_surface
 
@@ -64,18 +65,17 @@ def ball(elements: int, penalty: float = PENALTY, stabilization: float = STABILI
     material = surface_material(read_surface(SURFACE))
     radius = 22.225
     tagged = make_mesh(MeshSpec("disc", {"radius": radius}, element_size=2 * radius / elements))
-    sphere = SphereIndenter(12.7, (0.0, 0.0, -12.7), (0.0, 0.0, 12.0), penalty)
-    problem = Membrane3DProblem(
+    sphere = IndenterSpec((0.0, 0.0, 12.0), radius=12.7, centre=(0.0, 0.0, -12.7), penalty=penalty)
+    problem = PartProblem(
         tagged,
-        material,
-        [Support("rim")],
-        indenter=sphere,
-        stabilization=stabilization,
+        [Region("fabric", material)],
+        [BoundaryCondition("rim")],
+        space=SpaceSpec(indenter=sphere, stabilization=stabilization),
         options=space_solver_options(12),
     )
     start = time.perf_counter()
     result, reached = _run(problem)
-    force = -result.indenter_force[-1, 2]
+    force = -result.space.indenter_force[-1, 2]
     return _record(problem, result, time.perf_counter() - start, force, reached)
 
 
@@ -83,19 +83,16 @@ def tube(elements: int) -> dict:
     material = surface_material(read_surface(SURFACE))
     spec = MeshSpec("tube", {"radius": 20.0, "length": 80.0}, element_size=40.0 / elements)
     tagged = make_mesh(spec)
-    course, side = axis_fields("around")
-    problem = Membrane3DProblem(
+    problem = PartProblem(
         tagged,
-        material,
-        [Support("bottom"), Support("top")],
-        course=course,
-        side=side,
-        pressure=TUBE["pressure"]["value"],
+        [Region("fabric", material)],
+        [BoundaryCondition("bottom"), BoundaryCondition("top")],
+        space=SpaceSpec(pressure=TUBE["pressure"]["value"], course="around"),
         options=space_solver_options(TUBE["macro"]["steps"]),
     )
     start = time.perf_counter()
     result, reached = _run(problem)
-    displacement = result.peak_displacement[-1]
+    displacement = result.space.peak_displacement[-1]
     return _record(problem, result, time.perf_counter() - start, displacement, reached)
 
 
@@ -120,7 +117,7 @@ def _record(problem, result, seconds: float, value: float, reached: float) -> di
         "max_iterations": int(iterations.max()),
         "cutbacks": result.cutbacks,
         "value": float(value),
-        "stabilized": int(np.count_nonzero(result.stabilization_force[1:])),
+        "stabilized": int(np.count_nonzero(result.space.stabilization_force[1:])),
     }
 
 
@@ -173,7 +170,7 @@ def penalty_table() -> None:
 
 
 def hencky_table() -> None:
-    sys.path.insert(0, str(ROOT / "tests" / "verification"))
+    sys.path.insert(0, str(ROOT / "tests" / "test_fabric_dolfinx" / "verification"))
     import test_membrane3d_hencky as hencky  # noqa: PLC0415 (the test's series and setup)
 
     expected = hencky.hencky_deflection()
@@ -185,11 +182,11 @@ def hencky_table() -> None:
         start = time.perf_counter()
         problem, result = hencky.solve(size)
         seconds = time.perf_counter() - start
-        error = abs(result.peak_displacement[-1] - expected) / expected
+        error = abs(result.space.peak_displacement[-1] - expected) / expected
         rate = "" if previous is None else f"{math.log2(previous / error):.2f}"
         print(
-            f"| {size:g} | {problem.dofs} | {result.peak_displacement[-1]:.6f} | {error:.2e} | "
-            f"{rate} | {seconds:.2f} |"
+            f"| {size:g} | {problem.dofs} | {result.space.peak_displacement[-1]:.6f} | "
+            f"{error:.2e} | {rate} | {seconds:.2f} |"
         )
         previous = error
 

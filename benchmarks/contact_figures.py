@@ -24,7 +24,7 @@ from rve_rod.geometry.loop import adjusted_radius
 from rve_rod.presets import load_preset, stitch_values
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from contact_scenes import crossed_rods  # the tests' scenes
+from support.contact_scenes import crossed_rods  # the tests' scenes
 
 
 def law_panel(axis):

@@ -19,9 +19,9 @@ import time
 from mpi4py import MPI
 
 from fabric_dolfinx.material import surface_material
+from fabric_dolfinx.part.tension import TensionSetup
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import TensionSetup
-from fabric_dolfinx.tension_spec import TensionTest
+from fabric_dolfinx.spec.tension import TensionTest
 from knitmech.scene import default_surface_path
 from rve_rod.surface import read_surface
 

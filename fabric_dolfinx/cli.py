@@ -21,12 +21,12 @@ import sys
 import numpy as np
 from mpi4py import MPI
 
-from fabric_dolfinx.io import read_rve_curve
+from fabric_dolfinx.io.plot import plot_force_strain
+from fabric_dolfinx.io.rve_curve import read_rve_curve
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
-from fabric_dolfinx.plot import plot_force_strain
+from fabric_dolfinx.part.tension import TensionSetup
 from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.tension import TensionSetup
-from fabric_dolfinx.tension_spec import TensionTest
+from fabric_dolfinx.spec.tension import TensionTest
 from rve_rod import limits
 from rve_rod.errors import (
     CommandLineParser,
@@ -153,11 +153,11 @@ def run_tension_command(args: argparse.Namespace) -> int:
 def _report(args, test, material_name, result, *, converged, rve) -> None:
     """Print (rank 0) and plot the force-strain curve of `result`."""
     comm = MPI.COMM_WORLD
-    if args.plot:
-        curves = {f"membrane, {test.direction}": (result.strain, result.force_gf_per_cm)}
-        plot_force_strain(curves, args.plot, rve=rve, comm=comm)
     if comm.rank != 0:
         return
+    if args.plot:
+        curves = {f"membrane, {test.direction}": (result.strain, result.force_gf_per_cm)}
+        plot_force_strain(curves, args.plot, rve=rve)
     ignore_broken_pipe()
     if args.json:
         payload = {

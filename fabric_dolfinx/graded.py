@@ -10,7 +10,7 @@ with N_k the hat functions on the members' stitch values (N_k(s_k) = 1, linear b
 neighbours, so exactly two members act between s_k and s_(k+1) and one at a member value;
 constant beyond the ends). The weights depend on s only, which is a cell value (DG0), so the
 tangent dS/dE = sum_k N_k(s) dS_k/dE is the interpolated tangent and `ufl.diff` in
-`membrane.membrane_forms` derives it consistently. A constant stitch at a member value gives
+`membrane.forms.membrane_forms` derives it consistently. A constant stitch at a member value gives
 that member's law exactly (the other weights are 0).
 """
 

@@ -4,9 +4,9 @@ Two laws, each a plain function `E -> S` in the material frame (axis 1 course-wi
 wale-wise): the response-surface law of `docs/surface-format.md` (B-spline factors written as
 piecewise polynomials with `ufl.conditional`, extended outside the sampled domain by their
 Taylor polynomials) and an orthotropic Saint Venant-Kirchhoff law for tests and comparisons.
-`second_piola_kirchhoff` rotates E into the material frame by the orientation angle, applies a
-law and rotates S back. Strains are dimensionless (tensor shear E12), stresses N/mm (force per
-unit undeformed width). No tangent is written here: solvers get it from `ufl.derivative`.
+The membrane (`fabric_dolfinx.membrane.forms`) gives a law the strain in the material frame.
+Strains are dimensionless (tensor shear E12), stresses N/mm (force per unit undeformed
+width). No tangent is written here: the membrane derives it with `ufl.diff`.
 """
 
 from collections.abc import Callable
@@ -26,8 +26,6 @@ __all__ = [
     "PiecewiseBasis",
     "StressLaw",
     "piecewise_basis",
-    "rotation",
-    "second_piola_kirchhoff",
     "spline_1d",
     "spline_2d",
     "surface_material",
@@ -197,22 +195,6 @@ def surface_stress(E: ufl.core.expr.Expr, surface: ResponseSurface) -> ufl.core.
     S22 = spline_2d(surface.s22, E[0, 0], E[1, 1])
     S12 = spline_1d(surface.s12, E[0, 1])
     return ufl.as_matrix([[S11, S12], [S12, S22]])
-
-
-def rotation(angle) -> ufl.core.expr.Expr:
-    """R (2, 2) whose columns are the material axes a1 = (cos phi, sin phi), a2 = (-sin, cos).
-
-    `angle` phi (radians, from the x axis to the course direction) is a number, a
-    `fem.Constant` or a scalar field (DG0 or CG `fem.Function`).
-    """
-    c, s = ufl.cos(angle), ufl.sin(angle)
-    return ufl.as_matrix([[c, -s], [s, c]])
-
-
-def second_piola_kirchhoff(E: ufl.core.expr.Expr, law: StressLaw, angle=0.0) -> ufl.core.expr.Expr:
-    """S (2, 2) N/mm in the global frame: E -> R^T E R -> law -> R S R^T (R = rotation(angle))."""
-    R = rotation(angle)
-    return R * law(R.T * E * R) * R.T
 
 
 class Material(NamedTuple):

@@ -5,8 +5,9 @@ conditions and a callable that sets the load for a load factor t in [0, 1]. Line
 are solved by MUMPS (direct LU, the default) or by GMRES/CG preconditioned with hypre
 BoomerAMG for large meshes; PETSc options with the prefix `fabric_` override either (e.g.
 `-fabric_ksp_monitor`). The load factor is stepped by `rve_rod.stepping.StepController`, the
-step controller of the rod RVE too, with the same vocabulary (`SteppingOptions`,
-`NewtonResult`, `StepRecord`, `PathResult`): when Newton fails (no convergence, a non-finite
+step controller of the rod RVE too (`SteppingOptions`; its records `NewtonAttempt`,
+`LoadStep`, `LoadPath` are named apart from the RVE's `rve_rod.newton` records, whose fields
+differ): when Newton fails (no convergence, a non-finite
 or exploding residual, a failed linear solve) the increment is halved and retried from the
 last converged state, down to `min_increment`; then `ConvergenceError` carries every
 converged step.
@@ -22,7 +23,7 @@ import math
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import dolfinx.fem.petsc
 import numpy as np
@@ -44,12 +45,13 @@ from rve_rod.stepping import StepController, SteppingOptions
 __all__ = [
     "LINEAR_SOLVERS",
     "BoundaryIndicator",
+    "LoadPath",
+    "LoadStep",
     "LoadStepper",
-    "NewtonResult",
-    "PathResult",
+    "NewtonAttempt",
     "SolverOptions",
-    "StepRecord",
     "boundary_indicator",
+    "with_history",
 ]
 
 logger = logging.getLogger(__name__)
@@ -147,7 +149,7 @@ def boundary_indicator(space: fem.FunctionSpace, facets: np.ndarray) -> Boundary
     return BoundaryIndicator(*indicators)
 
 
-class NewtonResult(NamedTuple):
+class NewtonAttempt(NamedTuple):
     """One Newton attempt at a fixed load.
 
     Attributes:
@@ -165,13 +167,13 @@ class NewtonResult(NamedTuple):
     linear_iterations: int
 
 
-class StepRecord(NamedTuple):
+class LoadStep(NamedTuple):
     """A converged load step (substeps after a cutback included).
 
     Attributes:
         load_factor: t in (0, 1].
         iterations: Newton iterations of the converged attempt.
-        residual_norms: its residual history (N), see NewtonResult.
+        residual_norms: its residual history (N), see NewtonAttempt.
         substeps: converged steps since the previous of the equal steps, this one included.
         cutbacks: failed attempts since the previous of the equal steps.
         linear_iterations: its Krylov iterations (1 per Newton iteration for LU).
@@ -189,7 +191,7 @@ class StepRecord(NamedTuple):
     wall_time_s: float
 
 
-class PathResult(NamedTuple):
+class LoadPath(NamedTuple):
     """All converged steps of a load path.
 
     Attributes:
@@ -199,7 +201,7 @@ class PathResult(NamedTuple):
         wall_time_s: total time (s).
     """
 
-    steps: tuple[StepRecord, ...]
+    steps: tuple[LoadStep, ...]
     newton_iterations: int
     cutbacks: int
     wall_time_s: float
@@ -246,15 +248,15 @@ class LoadStepper:
         dolfinx.fem.petsc.set_bc(b, self.bcs, self.u.vector, -1.0)
         return b.norm()
 
-    def newton(self) -> NewtonResult:
+    def newton(self) -> NewtonAttempt:
         """Newton iterations at the current load, starting from the current `u`."""
         options = self.options
         norms = [self._assemble_residual()]
         linear = 0
 
-        def result(reason: str) -> NewtonResult:
+        def result(reason: str) -> NewtonAttempt:
             converged = reason == "converged"
-            return NewtonResult(converged, len(norms) - 1, tuple(norms), reason, linear)
+            return NewtonAttempt(converged, len(norms) - 1, tuple(norms), reason, linear)
 
         tolerance = max(options.absolute_tolerance, options.relative_tolerance * norms[0])
         for _ in range(options.max_iterations):
@@ -311,20 +313,25 @@ class LoadStepper:
     def run(
         self,
         apply_load: Callable[[float], None],
-        on_step: Callable[[StepRecord], None] | None = None,
-    ) -> PathResult:
+        on_step: Callable[[LoadStep], None] | None = None,
+        finish_step: Callable[[], None] | None = None,
+    ) -> LoadPath:
         """Follow the load path t = 0 -> 1 from the current `u` (the state at t = 0).
 
         `apply_load(t)` sets every load-dependent value (Dirichlet data, constants) for the
-        load factor t. `on_step` is called after every converged step (e.g. to write output).
-        Raises ConvergenceError (history: the PathResult so far) when a step cannot be
+        load factor t. `finish_step` is called after every converged Newton solve, before the
+        step and its reactions are recorded, and may change `u` (a part in space releases its
+        stabilization there; the state a cutback returns to and extrapolation starts from is
+        the Newton solution). `on_step` is called after every converged step (e.g. to record
+        or write output).
+        Raises ConvergenceError (history: the LoadPath so far) when a step cannot be
         completed even at `min_increment`; `u` then holds the last converged state.
         """
         stepping = self.options.stepping_options()
         start = last = time.perf_counter()
         targets = np.linspace(0.0, 1.0, self.options.steps + 1)[1:]
         controller = StepController(targets, stepping)
-        steps: list[StepRecord] = []
+        steps: list[LoadStep] = []
         iterations = 0
         converged_state = self.u.x.array.copy()
         previous_state = None  # the converged state before `converged_state`
@@ -338,8 +345,13 @@ class LoadStepper:
             iterations += attempt.iterations
             if attempt.converged:
                 count = controller.accept(trial, attempt.iterations)
+                if stepping.extrapolate:
+                    previous_state = converged_state.copy()
+                converged_state[:] = self.u.x.array
+                if finish_step is not None:
+                    finish_step()
                 now = time.perf_counter()
-                record = StepRecord(
+                record = LoadStep(
                     load_factor=float(trial),
                     iterations=attempt.iterations,
                     residual_norms=attempt.residual_norms,
@@ -350,9 +362,6 @@ class LoadStepper:
                     wall_time_s=now - last,
                 )
                 last = now
-                if stepping.extrapolate:
-                    previous_state = converged_state.copy()
-                converged_state[:] = self.u.x.array
                 steps.append(record)
                 logger.info(
                     "load factor %.6g: %d Newton iterations, residual %.3g N",
@@ -373,7 +382,7 @@ class LoadStepper:
             )
             if stop:
                 apply_load(load)
-                history = PathResult(
+                history = LoadPath(
                     tuple(steps), iterations, controller.total_cutbacks, time.perf_counter() - start
                 )
                 raise ConvergenceError(
@@ -384,9 +393,22 @@ class LoadStepper:
                     last_converged=steps[-1] if steps else None,
                     history=history,
                 )
-        return PathResult(
+        return LoadPath(
             tuple(steps), iterations, controller.total_cutbacks, time.perf_counter() - start
         )
+
+
+def with_history(solve: Callable[[], Any], result: Callable[[Any], Any]) -> Any:
+    """`result(solve())`; when `solve` raises ConvergenceError, the same error with its
+    history (the record of the converged steps, of solve's type) made a `result` too, so
+    that every caller gets the partial result in its own type."""
+    try:
+        solved = solve()
+    except ConvergenceError as error:
+        raise ConvergenceError(
+            str(error), last_converged=error.last_converged, history=result(error.history)
+        ) from None
+    return result(solved)
 
 
 def _converged(norms: list[float], tolerance: float, floor_tolerance: float) -> bool:

@@ -19,9 +19,9 @@ import logging
 import sys
 
 from knitmech.fidelity import LEVELS
+from knitmech.jobs.launch import StageError
 from knitmech.pipeline import run_scene
 from knitmech.scene import load_scene
-from knitmech.stages import StageError
 from knitmech.sweep import FAILED_EXIT_STATUS, SUMMARY_FILE, load_sweep, run_sweep
 from rve_rod import __version__
 from rve_rod.cache import default_cache_root

@@ -2,7 +2,7 @@
 
     geometry -> meso (RVE load cases) -> surface (RVE runs, fit, file) -> macro (patch tension)
 
-Every stage goes through the content-addressed stage cache (`knitmech.stage_cache`): a stage
+Every stage goes through the content-addressed stage cache (`knitmech.stages.cache`): a stage
 whose inputs did not change is taken from the cache, and a run that was interrupted resumes
 after the last stage (and, within the surface stage, the last RVE run) that finished. Only
 what the scene asks for is run: its meso load cases, its patch directions, and no surface
@@ -23,15 +23,7 @@ import time
 from pathlib import Path
 from typing import NamedTuple, TextIO
 
-from knitmech.fabric_stages import (
-    fabric_job,
-    fabric_stage,
-    fabric_table,
-    in_subfolder,
-    knit_surfaces,
-)
 from knitmech.fidelity import fidelity_level
-from knitmech.records import GeometrySummary, MesoSummary, PatchSummary, SurfaceSummary
 from knitmech.report import (
     compare_forces,
     plot_comparison,
@@ -40,7 +32,6 @@ from knitmech.report import (
     summary_table,
 )
 from knitmech.scene import Scene, SceneError
-from knitmech.stage_cache import GIVEN, Stage, StageCache, StageRecord, remove_stale_work
 from knitmech.stages import (
     SURFACE_FIGURE,
     SURFACE_FILE,
@@ -53,6 +44,15 @@ from knitmech.stages import (
     plan_run,
     surface_stage,
 )
+from knitmech.stages.cache import GIVEN, Stage, StageCache, StageRecord, remove_stale_work
+from knitmech.stages.fabric import (
+    fabric_job,
+    fabric_stage,
+    fabric_table,
+    in_subfolder,
+    knit_surfaces,
+)
+from knitmech.stages.records import GeometrySummary, MesoSummary, PatchSummary, SurfaceSummary
 from rve_rod import __version__
 from rve_rod.cache import ResultCache, default_cache_root
 from rve_rod.errors import InputError, check_integer
@@ -126,7 +126,7 @@ def check_plan(
         raise SceneError(repr(plan.scene.name), problems)
 
 
-def run_scene(
+def run_scene(  # noqa: PLR0913 (the scene and the keyword options of `knitmech run`)
     scene: Scene,
     *,
     fidelity: str | None = None,

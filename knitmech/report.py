@@ -4,7 +4,7 @@ Forces are compared at REPORT_STRAINS (5, 10 and 20 %): the patch's clamp force 
 (macro) against the RVE's uniaxial force per width (meso) of the same direction, both in
 gf/cm, twice: at the patch's nominal strain (clamp to clamp: the clamps, which hold the fabric's
 width at both ends, stiffen a fabric that contracts) and at the strain of the gauge at the
-patch's centre (`knitmech.macro.PatchProbe`; a tensile test's extensometer), where the fabric
+patch's centre (`knitmech.jobs.patch.PatchProbe`; a tensile test's extensometer), where the fabric
 is free to narrow and the material alone is measured. Values between output states are
 interpolated linearly; strains beyond a curve's end (a run that stopped early, or a smaller
 max_strain) are reported as None.
@@ -15,9 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
-from knitmech.records import MesoSummary, PatchSummary
-from knitmech.stage_cache import StageRecord
 from knitmech.stages import DIRECTION_CASES
+from knitmech.stages.cache import StageRecord
+from knitmech.stages.records import MesoSummary, PatchSummary
 
 __all__ = [
     "POISSON_STRAINS",
@@ -197,7 +197,7 @@ def plot_comparison(
     """Force-strain of the patch (markers: against its nominal strain, clamp to clamp, and
     against the strain its centre gauge reads) and of the RVE (dashed), as the paper's Fig. 8a,
     titled `title` (the scene's name and level)."""
-    from fabric_dolfinx.plot import plot_force_strain  # noqa: PLC0415 (matplotlib on demand)
+    from fabric_dolfinx.io.plot import plot_force_strain  # noqa: PLC0415 (matplotlib on demand)
 
     curves = {}
     for d, record in macro.items():

@@ -35,6 +35,7 @@ from typing import NamedTuple, TextIO
 
 from knitmech.fidelity import LEVELS, fidelity_level
 from knitmech.scene import Scene, SceneError, scene_from_dict
+from knitmech.scene.keys import unknown_key
 from knitmech.stages import RunPlan, plan_run
 from rve_rod.cache import ResultCache, default_cache_root
 from rve_rod.errors import InputError
@@ -173,9 +174,7 @@ def load_sweep(path: str | Path) -> Sweep:
 
 def sweep_from_dict(data: dict, source: str = "<dict>") -> Sweep:
     """Build a Sweep from parsed TOML; every problem of every knit goes into one SceneError."""
-    problems = [
-        f"{key}: unknown key (valid: {', '.join(_KEYS)})" for key in data if key not in _KEYS
-    ]
+    problems = [unknown_key(key, _KEYS) for key in data if key not in _KEYS]
     name = data.get("name", "sweep")
     fidelity = data.get("fidelity", "balanced")
     if fidelity not in LEVELS:
@@ -238,7 +237,7 @@ def rod_engine(plan: RunPlan) -> RodRve:
     return RodRve(plan.rve)
 
 
-def run_sweep(
+def run_sweep(  # noqa: PLR0913 (the sweep and the keyword options of `knitmech sweep`)
     sweep: Sweep,
     output: str | Path = "sweep",
     *,

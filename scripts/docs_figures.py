@@ -4,8 +4,8 @@ one command (`make figures`).
 Runs `knitmech run` on the built-in default scene at its level (balanced, what `make demo`
 runs) with an empty cache (so that nothing comes from results of older code), then copies
 its figures into docs/figures/ and writes its printed table into docs/pipeline.md between
-the markers BEGIN and END. tests/regression/test_documented_headline.py checks that the
-numbers there (and the README's agreement figures) are what the code gives.
+the markers BEGIN and END. tests/test_knitmech/regression/test_documented_headline.py checks
+that the numbers there (and the README's agreement figures) are what the code gives.
 
     .venv/bin/python scripts/docs_figures.py [--jobs N] [--cache-dir DIR] [--output DIR]
 

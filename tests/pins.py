@@ -9,12 +9,13 @@ here, in one place, and re-makes the docs listed with each number.
 
 Who checks what:
   RVE_FAST, RVE_SECTION_FAST, SHIPPED_SURFACE_FIT, MAIN_JOB_FAST, LOOP_LENGTHS,
-  LOOP_SHAPE_EXPERIMENT: tests/regression/
-  RVE_PAPER_RESOLUTION: tests/validation/test_rve_cotton.py
-  RVE_FRICTION_CYCLE: tests/verification/test_rve_cell.py
-  DEMOS: tests/validation/test_fabric_demos.py
-  IMAGING: tests/unit/test_demo_measure_photo.py (the photo of demos/demo_measure_photo.py)
-  BALL_BURST: tests/validation/test_space_examples.py
+  LOOP_SHAPE_EXPERIMENT: tests/test_rve_rod/regression/, tests/test_knitmech/regression/
+  RVE_PAPER_RESOLUTION: tests/test_rve_rod/validation/test_rve_cotton.py
+  RVE_FRICTION_CYCLE: tests/test_rve_rod/verification/test_rve_cell.py
+  DEMOS: tests/test_knitmech/validation/test_fabric_demos.py
+  IMAGING: tests/test_rve_rod/unit/test_demo_measure_photo.py (the photo of
+    demos/demo_measure_photo.py)
+  BALL_BURST: tests/test_knitmech/validation/test_space_examples.py
 
 Every value was measured on the shared 2-core machine at commit 3172971 (version 0.2.1, loop
 model 0.2) with Debian 12's numpy 1.24, scipy, numba 0.56 and DOLFINx 0.5.2, the way the test
@@ -104,7 +105,7 @@ RVE_SECTION_FAST = {
 # The RVE at the paper's resolution (68 control points, 0-20 % in 21 states) for the six cotton
 # fabrics (uniaxial; force in gf/cm at 20 %, Poisson ratio at 20 %; free-fibre bending) and
 # Vassiliadis sample 2 (strip-biaxial; force at 10 and 20 %; no fibre data: section bending):
-# the runs of tests/validation/test_rve_cotton.py.
+# the runs of tests/test_rve_rod/validation/test_rve_cotton.py.
 RVE_PAPER_RESOLUTION = {
     "cotton 4.5 course force 20 %": Pin(25.901937995695935, SOLVED, VALIDATION),
     "cotton 4.5 wale force 20 %": Pin(60.32058755056257, SOLVED, VALIDATION),
@@ -137,8 +138,8 @@ RVE_PAPER_RESOLUTION = {
 }
 
 # Fraction of the work dissipated by friction on a strip-biaxial cycle 0 -> 15 % -> 0 in 31
-# states, on the test loop of tests/rve_cases.py (yarn radius 0.16 mm, E0 = 80 MPa, mu = 0.15)
-# with 20 control points: tests/verification/test_rve_cell.py
+# states, on the test loop of tests/support/rve_cases.py (yarn radius 0.16 mm, E0 = 80 MPa,
+# mu = 0.15) with 20 control points: tests/test_rve_rod/verification/test_rve_cell.py
 # (test_friction_dissipates_on_a_load_cycle).
 RVE_FRICTION_CYCLE = {
     "dissipated fraction": Pin(0.053076533227752125, SOLVED, PINS_DOC),
@@ -229,8 +230,8 @@ DEMOS = {
 SPACE = "docs/membrane3d.md (ball burst)"
 BALL_BURST = {
     # examples/ball_burst.toml at fast fidelity with 5.8 mm elements (the suite's variant of
-    # tests/validation/test_space_examples.py), the shipped surface; measured at 99c73bd, the
-    # ball's force again at version 0.3.0 (the shipped surface re-made)
+    # tests/test_knitmech/validation/test_space_examples.py), the shipped surface; measured at
+    # 99c73bd, the ball's force again at version 0.3.0 (the shipped surface re-made)
     "ball force at 12 mm travel (N)": Pin(1.535089211234625, SOLVED, SPACE),
     "apex displacement at 12 mm travel (mm)": Pin(11.921519985385434, SOLVED, SPACE),
 }

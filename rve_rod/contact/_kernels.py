@@ -1,7 +1,7 @@
 """Numba kernels of contact: box sweep, closest points, loads with tangents, COO assembly.
 
 Arrays are components first, batch last. Each kernel writes into preallocated outputs and is
-checked against a plain NumPy/SciPy reference in tests/unit/test_contact_kernels.py.
+checked against a plain NumPy/SciPy reference in tests/test_rve_rod/unit/test_contact_kernels.py.
 """
 
 from typing import NamedTuple

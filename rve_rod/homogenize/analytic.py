@@ -5,7 +5,7 @@ caching and parallel generation can be tested and benchmarked before (and indepe
 the rod RVE. It is NOT a model of a knit; its law only mimics the features the fits must
 handle: stiffening in tension, softening in compression, biaxial coupling, nonlinear shear.
 The same law, interpolated by B-splines, is the membrane's material until RVE surfaces exist
-(`tests/surface_cases.py`).
+(`tests/support/surface_cases.py`).
 
     S11 = k1 (exp(b1 E11) - 1) / b1 + c12 E22
     S22 = k2 (exp(b2 E22) - 1) / b2 + c21 E11

@@ -63,7 +63,7 @@ wale and a whole course (-1 for a checkerboard, -0.997 blurred by 2 px with nois
 its even harmonics vanish). In single jersey the two legs of a loop give the half-wale shift
 -0.11 to +0.36 and the half course -0.03 to -0.48 (synthetic face and back photos, c/w
 0.58-1.3, turned by 0-12 degrees, noise up to 0.2); a centred pattern of the (1, +-1)
-harmonics with 5 % of its power in (2, 0) gives -0.89 (tests/verification)."""
+harmonics with 5 % of its power in (2, 0) gives -0.89 (tests/test_rve_rod/verification)."""
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,269 @@
+"""The specification of a fabric part, without DOLFINx (the pipeline plans and checks with it).
+
+`MeshSpec`: a built-in shape with its dimensions or a gmsh file (`fabric_dolfinx.mesh.shapes`
+meshes it); `BoundaryCondition`: what holds or loads one named boundary
+(`fabric_dolfinx.part.boundary` applies it).
+"""
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+
+from rve_rod.errors import InputError, check_integer, check_positive
+
+__all__ = [
+    "AXES",
+    "BOUNDARY_KINDS",
+    "COMPONENTS",
+    "QUADRILATERAL_TYPES",
+    "SHAPES",
+    "SHAPE_DIMENSIONS",
+    "BoundaryCondition",
+    "GmshContents",
+    "MeshSpec",
+    "gmsh_contents",
+    "physical_groups",
+    "shape_points",
+    "shape_size",
+]
+
+QUADRILATERAL_TYPES = {3: "4-node quadrilateral"}
+"""gmsh element types accepted for the fabric's cells."""
+
+
+SHAPES = ("rectangle", "patch", "cruciform", "plate_with_hole", "disc", "tube")
+"""Names of the built-in shapes."""
+
+SHAPE_DIMENSIONS = {
+    "rectangle": {"width": 50.0, "height": 50.0},
+    "patch": {},
+    "cruciform": {"width": 50.0, "arm_length": 50.0},
+    "plate_with_hole": {"width": 50.0, "height": 50.0, "radius": 10.0},
+    "disc": {"radius": 25.0},
+    "tube": {"radius": 10.0, "length": 50.0},
+}
+"""Shape -> its dimensions (mm) with their defaults."""
+
+
+@dataclass(frozen=True)
+class MeshSpec:
+    """A fabric mesh: a built-in shape with its dimensions, or a gmsh file.
+
+    Attributes:
+        shape: one of SHAPES, or None when `file` is given.
+        dimensions: the shape's dimensions (mm), see SHAPE_DIMENSIONS; missing ones take
+            the defaults.
+        file: a gmsh `.geo` (meshed here) or `.msh` file (used as it is).
+        parameters: values of the `.geo` file's DefineConstant parameters.
+        element_size: target quadrilateral edge (mm) of a built-in shape (and the `size`
+            parameter of plate_with_hole); None: shape_size / 10.
+        refinements: uniform refinements after meshing (each quad split into four).
+    """
+
+    shape: str | None = "patch"
+    dimensions: dict[str, float] = field(default_factory=dict)
+    file: str | None = None
+    parameters: dict[str, float] = field(default_factory=dict)
+    element_size: float | None = None
+    refinements: int = 0
+
+    def __post_init__(self):
+        if (self.shape is None) == (self.file is None):
+            raise InputError("a mesh needs exactly one of shape and file")
+        if self.shape is not None:
+            if self.shape not in SHAPES:
+                raise InputError(f"shape={self.shape!r} is not one of {', '.join(SHAPES)}")
+            valid = SHAPE_DIMENSIONS[self.shape]
+            for key, value in self.dimensions.items():
+                if key not in valid:
+                    names = ", ".join(valid) or "none"
+                    raise InputError(f"{key!r} is not a dimension of {self.shape} ({names})")
+                check_positive(key, value, "mm")
+        if self.element_size is not None:
+            check_positive("element_size", self.element_size, "mm")
+        check_integer("refinements", self.refinements, 0, 6)
+
+    def dimension(self, key: str) -> float:
+        """The dimension `key` (mm), given or default."""
+        if self.shape == "patch":
+            return 50.0
+        return float(self.dimensions.get(key, SHAPE_DIMENSIONS[self.shape][key]))
+
+
+def shape_size(spec: MeshSpec) -> float:
+    """The characteristic length of a built-in shape (mm): the smallest of its width, height
+    or diameter; the default element size is a tenth of it."""
+    if spec.shape in ("rectangle", "plate_with_hole"):
+        return min(spec.dimension("width"), spec.dimension("height"))
+    if spec.shape == "disc":
+        return 2.0 * spec.dimension("radius")
+    if spec.shape == "tube":
+        return min(2.0 * spec.dimension("radius"), spec.dimension("length"))
+    return spec.dimension("width") if spec.shape == "cruciform" else 50.0
+
+
+BOUNDARY_KINDS = ("clamp", "displacement", "roller", "traction", "free")
+COMPONENTS = {"x": 0, "y": 1}
+"""The components a scene's roller may hold (a plane part's)."""
+AXES = "xyz"
+"""The displacement's components by name: x, y, and z for a part in space."""
+
+
+@dataclass(frozen=True)
+class BoundaryCondition:
+    """A condition on one named boundary (see the module docstring for the kinds).
+
+    Attributes:
+        name: a physical curve of the mesh.
+        kind: one of BOUNDARY_KINDS.
+        vector: (ux, uy) mm for `displacement`, (tx, ty) N/mm for `traction`, at t = 1; a
+            part in space takes a third number (uz, tz), 0 when only two are given.
+        component: the components a `roller` holds, letters of AXES: "x", "y", or for a part
+            in space also "z" or several, e.g. "yz".
+        value: the roller's displacement at t = 1 (mm), of every held component.
+    """
+
+    name: str
+    kind: str = "clamp"
+    vector: tuple[float, ...] = (0.0, 0.0)
+    component: str = "x"
+    value: float = 0.0
+
+    def __post_init__(self):
+        if self.kind not in BOUNDARY_KINDS:
+            raise InputError(
+                f"boundary {self.name!r}: kind={self.kind!r} is not one of "
+                f"{', '.join(BOUNDARY_KINDS)}"
+            )
+        if len(self.vector) not in (2, 3) or not all(np.isfinite(self.vector)):
+            raise InputError(
+                f"boundary {self.name!r}: vector={self.vector!r} needs 2 numbers (3 in space)"
+            )
+        held = self.component
+        if not held or any(c not in AXES for c in held) or len(set(held)) != len(held):
+            raise InputError(
+                f"boundary {self.name!r}: component={held!r} is not x, y or z (or several once)"
+            )
+
+    @property
+    def dirichlet(self) -> bool:
+        return self.kind in ("clamp", "displacement", "roller")
+
+
+class GmshContents(NamedTuple):
+    """What a gmsh file defines, read before anything runs.
+
+    Attributes:
+        curves: physical curve names (the boundaries).
+        surfaces: physical surface names (the regions).
+        centres: physical surface name -> (n, 2) centres (mm) of its elements (after the
+            refinements), where a graded stitch is checked and its members planned.
+    """
+
+    curves: list[str]
+    surfaces: list[str]
+    centres: dict[str, np.ndarray]
+
+
+def gmsh_contents(path, parameters=None, refinements: int = 0) -> GmshContents:
+    """The physical groups of a gmsh `.geo` or `.msh` file and their elements' centres, with
+    the checks of `physical_groups` (a `.geo` file is meshed in 2D, as `read_geo` does);
+    InputError when gmsh cannot read the file or a check fails."""
+    import gmsh  # noqa: PLC0415 (gmsh only for scenes with a mesh file)
+
+    arguments = ["fabric_dolfinx"]
+    for name, value in (parameters or {}).items():
+        arguments += ["-setnumber", name, repr(float(value))]
+    gmsh.initialize(arguments)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        try:
+            gmsh.open(str(path))
+            if str(path).endswith(".geo"):
+                gmsh.model.mesh.generate(2)
+            for _ in range(refinements):
+                gmsh.model.mesh.refine()
+        except Exception as error:  # gmsh raises plain Exceptions
+            raise InputError(f"gmsh cannot read {path}: {error}") from None
+        curves, surfaces = physical_groups(Path(path).name)
+        centres = {}
+        for name, tag in surfaces.items():
+            points = [np.zeros((0, 2))]
+            for entity in gmsh.model.getEntitiesForPhysicalGroup(2, tag):
+                for kind in gmsh.model.mesh.getElementTypes(2, entity):
+                    centre = gmsh.model.mesh.getBarycenters(kind, entity, False, True)
+                    points.append(np.reshape(centre, (-1, 3))[:, :2])
+            centres[name] = np.concatenate(points)
+    finally:
+        gmsh.finalize()
+    return GmshContents(list(curves), list(surfaces), centres)
+
+
+def physical_groups(source: str) -> tuple[dict[str, int], dict[str, int]]:
+    """(curve name -> tag, surface name -> tag) of the current gmsh model (meshed), after
+    checking that its 2D elements are 4-node quadrilaterals, that it has a physical surface,
+    that no curve (surface) is in two physical curves (surfaces) and that every group has a
+    name (InputError naming `source` otherwise)."""
+    import gmsh  # noqa: PLC0415 (gmsh only for meshes)
+
+    types = set(gmsh.model.mesh.getElementTypes(2))
+    if not types:
+        raise InputError(f"{source}: the mesh has no 2D elements")
+    others = sorted(int(t) for t in types - set(QUADRILATERAL_TYPES))
+    if others:
+        names = ", ".join(gmsh.model.mesh.getElementProperties(t)[0] for t in others)
+        raise InputError(
+            f"{source}: the mesh has {names} elements; only 4-node quadrilaterals are "
+            "supported (recombine the mesh: Recombine Surface, Mesh.RecombineAll = 1)"
+        )
+    boundaries = {
+        gmsh.model.getPhysicalName(1, tag): tag for _, tag in gmsh.model.getPhysicalGroups(1)
+    }
+    regions = {
+        gmsh.model.getPhysicalName(2, tag): tag for _, tag in gmsh.model.getPhysicalGroups(2)
+    }
+    if not regions:
+        raise InputError(f"{source}: no physical surface (a region) is defined")
+    # a DOLFINx mesh tag holds one value per entity: overlapping groups would lose names
+    for dim, groups, kind in ((1, boundaries, "curves"), (2, regions, "surfaces")):
+        owner: dict[int, str] = {}
+        for name, tag in groups.items():
+            for entity in gmsh.model.getEntitiesForPhysicalGroup(dim, tag):
+                if entity in owner:
+                    raise InputError(
+                        f"{source}: {kind[:-1]} {entity} belongs to the physical {kind} "
+                        f"{owner[entity]!r} and {name!r}; they must not overlap"
+                    )
+                owner[entity] = name
+    unnamed = [n for n in (*boundaries, *regions) if not n]
+    if unnamed:
+        raise InputError(f"{source}: every physical group needs a name")
+    return boundaries, regions
+
+
+def shape_points(spec: MeshSpec, count: int = 101) -> np.ndarray:
+    """(n, 2) points (mm) of a count x count grid over a built-in shape's bounding box that
+    lie in the shape (the hole of plate_with_hole included): for checking expressions of
+    x, y over the part before it is meshed."""
+    if spec.shape == "cruciform":
+        half = spec.dimension("width") / 2
+        end = half + spec.dimension("arm_length")
+        box = (-end, end, -end, end)
+    elif spec.shape in ("disc", "tube"):
+        radius = spec.dimension("radius")
+        box = (-radius, radius, -radius, radius)
+    elif spec.shape == "patch":
+        box = (0.0, 50.0, 0.0, 50.0)
+    else:
+        box = (0.0, spec.dimension("width"), 0.0, spec.dimension("height"))
+    x, y = np.meshgrid(np.linspace(*box[:2], count), np.linspace(*box[2:], count))
+    x, y = x.ravel(), y.ravel()
+    if spec.shape == "cruciform":
+        inside = (np.abs(x) <= half + 1e-9) | (np.abs(y) <= half + 1e-9)
+    elif spec.shape == "disc":
+        inside = x**2 + y**2 <= radius**2 * (1 + 1e-12)
+    else:
+        inside = np.ones(x.size, dtype=bool)
+    return np.column_stack([x[inside], y[inside]])

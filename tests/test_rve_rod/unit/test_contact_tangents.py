@@ -1,0 +1,218 @@
+"""Contact tangents (normal, stick, slip) against central finite differences, relative 1e-6."""
+
+import numpy as np
+import pytest
+from support.contact_scenes import knit_loop, wrapped_rods
+
+from rve_rod.contact import (
+    CompressibleYarnLaw,
+    ContactModel,
+    CoulombFriction,
+    Patch,
+    YarnChain,
+)
+from rve_rod.geometry.bspline import greville_abscissae, open_knot_vector
+
+STEP = 1e-7
+
+
+def loads(model, positions, deformation):
+    return model.evaluate(positions, deformation, tangent=False).line_load.ravel()
+
+
+def finite_difference_jacobians(model, positions, deformation):
+    """Central differences of the line loads w.r.t. all positions and F11, F12, F21, F22."""
+    flat = positions.ravel()
+    columns = []
+    for i in range(flat.size):
+        plus, minus = flat.copy(), flat.copy()
+        plus[i] += STEP
+        minus[i] -= STEP
+        columns.append(
+            loads(model, plus.reshape(-1, 3), deformation)
+            - loads(model, minus.reshape(-1, 3), deformation)
+        )
+    position_jacobian = np.array(columns).T / (2 * STEP)
+    columns = []
+    for a, b in ((0, 0), (0, 1), (1, 0), (1, 1)):
+        plus, minus = deformation.copy(), deformation.copy()
+        plus[a, b] += STEP
+        minus[a, b] -= STEP
+        columns.append(loads(model, positions, plus) - loads(model, positions, minus))
+    return position_jacobian, np.array(columns).T / (2 * STEP)
+
+
+def assert_relative(actual, expected, tolerance=1e-6):
+    scale = np.abs(expected).max()
+    assert scale > 0
+    assert np.abs(actual - expected).max() <= tolerance * scale
+
+
+def curved_crossed_rods(n=14, degree=4):
+    """Two curved rods crossing near the origin, centrelines about 0.2 apart (r = 0.2)."""
+    knots = open_knot_vector(degree, n)
+    g = greville_abscissae(knots, degree)
+    rod_0 = np.stack([-1 + 2 * g, 0.2 * np.sin(3 * g), 0.1 * np.cos(2 * g) + 0.05], axis=1)
+    rod_1 = np.stack([0.15 * np.cos(2 * g), -1 + 2 * g, -0.05 * g - 0.1], axis=1)
+    return [Patch(degree, knots), Patch(degree, knots)], np.vstack([rod_0, rod_1])
+
+
+LAW = CompressibleYarnLaw(stiffness=10.0, exponent=1.5, yarn_radius=0.2)
+
+
+@pytest.mark.parametrize(
+    ("friction", "shift", "state"),
+    [
+        (None, 0.01, "normal"),
+        (CoulombFriction(coefficient=5.0, tangential_stiffness=10.0), 0.01, "stick"),
+        (CoulombFriction(coefficient=0.3, tangential_stiffness=10.0), 0.05, "slip"),
+    ],
+)
+def test_crossed_rods_tangent(friction, shift, state):
+    patches, reference = curved_crossed_rods()
+    model = ContactModel(
+        patches, reference, LAW, friction=friction, yarns=[YarnChain((0,)), YarnChain((1,))]
+    )
+    positions = reference.copy()
+    positions[:14, 0] += shift
+    positions[:14, 1] += 0.5 * shift
+    positions[14:, 2] += 0.3 * shift * np.linspace(-1, 1, 14)
+    result = model.evaluate(positions)
+    stats = result.statistics
+    assert stats.active_contacts >= 4
+    if state == "stick":
+        assert stats.sticking == stats.active_contacts
+    if state == "slip":
+        assert stats.sliding == stats.active_contacts
+    fd_positions, _ = finite_difference_jacobians(model, positions, np.eye(3))
+    assert_relative(result.jacobian.toarray(), fd_positions)
+
+
+@pytest.mark.parametrize(
+    ("friction", "state"),
+    [
+        (None, "normal"),
+        (CoulombFriction(coefficient=10.0, tangential_stiffness=0.3), "stick"),
+        (CoulombFriction(coefficient=0.05, tangential_stiffness=30.0), "slip"),
+    ],
+)
+def test_knit_cell_tangent_with_images_under_shear(cotton_loop, friction, state):
+    # The cotton loop and its images mapped by a compressive shear F (as built they only
+    # touch), the control points then perturbed.
+    scene = knit_loop(cotton_loop, 20)
+    law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=cotton_loop.yarn_radius)
+    model = ContactModel(
+        scene.patches, scene.positions, law, friction=friction, lattice=scene.lattice
+    )
+    deformation = np.array([[0.96, 0.04, 0.0], [0.02, 0.95, 0.0], [0.0, 0.0, 1.0]])
+    rng = np.random.default_rng(5)
+    positions = scene.positions @ deformation.T
+    positions += 0.004 * rng.normal(size=positions.shape)
+    result = model.evaluate(positions, deformation)
+    stats = result.statistics
+    images = {tuple(image) for image in result.contacts.image}
+    assert stats.active_contacts > 20
+    assert len(images - {(0, 0)}) >= 4  # contacts with several periodic images
+    anchored = stats.active_contacts - stats.without_anchor
+    if state == "stick":  # contacts with a tiny normal force may still slip
+        assert stats.sticking >= 0.9 * anchored > 0
+    if state == "slip":
+        assert stats.sliding >= 0.9 * anchored > 0
+    fd_positions, fd_deformation = finite_difference_jacobians(model, positions, deformation)
+    assert_relative(result.jacobian.toarray(), fd_positions)
+    assert_relative(result.deformation_jacobian, fd_deformation)
+
+
+def test_per_contact_derivatives_sum_to_the_line_load_ones_and_match_differences(cotton_loop):
+    """The per-contact loads (what the macro stress weights by lattice image) have their own
+    derivatives: they sum to the per-point ones, and a weighted sum of them matches central
+    differences of the same weighted sum (contacts keep their order under tiny steps)."""
+    scene = knit_loop(cotton_loop, 12)
+    law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=cotton_loop.yarn_radius)
+    friction = CoulombFriction(coefficient=0.05, tangential_stiffness=30.0)
+    model = ContactModel(
+        scene.patches, scene.positions, law, friction=friction, lattice=scene.lattice
+    )
+    deformation = np.array([[1.03, 0.04, 0.0], [0.02, 0.985, 0.0], [0.0, 0.0, 1.0]])
+    positions = scene.positions + 0.004 * np.random.default_rng(5).normal(
+        size=scene.positions.shape
+    )
+    result = model.evaluate(positions, deformation)
+    contacts = result.contacts
+    k, m = contacts.slave.size, model.n_collocation_points
+    summed = np.zeros((3 * m, 3 * k))  # contact rows c k + i -> point rows c m + slave
+    for c in range(3):
+        summed[c * m + contacts.slave, c * k + np.arange(k)] = 1.0
+    assert_relative(summed @ result.contact_jacobian.toarray(), result.jacobian.toarray(), 1e-12)
+    assert_relative(
+        summed @ result.contact_deformation_jacobian, result.deformation_jacobian, 1e-12
+    )
+    per_point = np.stack([np.bincount(contacts.slave, contacts.load[c], m) for c in range(3)])
+    np.testing.assert_allclose(per_point, result.line_load, rtol=0, atol=1e-14)
+    # weights: each contact's lattice image row j and column i (as the virial uses them)
+    weights = np.concatenate([contacts.image[:, 1] + 0.5, contacts.image[:, 0] - 0.25, np.ones(k)])
+
+    def weighted(points, F):
+        other = model.evaluate(points, F, tangent=False).contacts
+        assert np.array_equal(other.slave, contacts.slave)
+        assert np.array_equal(other.image, contacts.image)
+        return weights @ other.load.ravel()
+
+    flat = positions.ravel()
+    gradient = np.empty(flat.size)
+    for i in range(flat.size):
+        plus, minus = flat.copy(), flat.copy()
+        plus[i] += STEP
+        minus[i] -= STEP
+        gradient[i] = weighted(plus.reshape(-1, 3), deformation) - weighted(
+            minus.reshape(-1, 3), deformation
+        )
+    assert_relative(weights @ result.contact_jacobian.toarray(), gradient / (2 * STEP))
+    by_deformation = []
+    for a, b in ((0, 0), (0, 1), (1, 0), (1, 1)):
+        plus, minus = deformation.copy(), deformation.copy()
+        plus[a, b] += STEP
+        minus[a, b] -= STEP
+        by_deformation.append(weighted(positions, plus) - weighted(positions, minus))
+    assert_relative(
+        weights @ result.contact_deformation_jacobian, np.array(by_deformation) / (2 * STEP)
+    )
+
+
+@pytest.mark.parametrize(
+    ("friction", "state"),
+    [
+        (None, "normal"),
+        (CoulombFriction(coefficient=10.0, tangential_stiffness=1.0), "stick"),
+        (CoulombFriction(coefficient=0.05, tangential_stiffness=10.0), "slip"),
+    ],
+)
+@pytest.mark.parametrize("tilt", [0.0, 0.012])
+def test_shared_minima_tangent_with_images_under_shear(friction, state, tilt):
+    """A rod wrapped around another (through a lattice image): slave points with two close
+    distance minima share one contact by prominence weights (rve_rod.contact.regions), whose
+    derivatives (through the separating maximum) are part of the tangent."""
+    scene = wrapped_rods(tilt=tilt, periodic=True)
+    model = ContactModel(
+        scene.patches,
+        scene.positions,
+        LAW,
+        friction=friction,
+        yarns=scene.yarns,
+        lattice=scene.lattice,
+    )
+    deformation = np.array([[1.02, 0.004, 0.0], [0.003, 1.002, 0.0], [0.0, 0.0, 1.0]])
+    rng = np.random.default_rng(3)
+    positions = scene.positions + 0.001 * rng.normal(size=scene.positions.shape)
+    result = model.evaluate(positions, deformation)
+    stats = result.statistics
+    weight = result.contacts.weight
+    assert np.count_nonzero((weight > 0.05) & (weight < 0.95)) >= 2
+    assert {tuple(image) for image in result.contacts.image} == {(0, 1), (0, -1)}
+    if state == "stick":
+        assert stats.sticking == stats.active_contacts
+    if state == "slip":
+        assert stats.sliding == stats.active_contacts
+    fd_positions, fd_deformation = finite_difference_jacobians(model, positions, deformation)
+    assert_relative(result.jacobian.toarray(), fd_positions)
+    assert_relative(result.deformation_jacobian, fd_deformation)
