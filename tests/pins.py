@@ -16,6 +16,7 @@ Who checks what:
   IMAGING: tests/test_rve_rod/unit/test_demo_measure_photo.py (the photo of
     demos/demo_measure_photo.py)
   BALL_BURST: tests/test_knitmech/validation/test_space_examples.py
+  PAPER_COMPARISON_FAST: tests/test_rve_rod/regression/test_pinned_paper_comparison.py
 
 Every value was measured on the shared 2-core machine at commit 3172971 (version 0.2.1, loop
 model 0.2) with Debian 12's numpy 1.24, scipy, numba 0.56 and DOLFINx 0.5.2, the way the test
@@ -236,6 +237,21 @@ BALL_BURST = {
     "apex displacement at 12 mm travel (mm)": Pin(11.921519985385434, SOLVED, SPACE),
 }
 
+# Our RVE along the paper group's runs (issue 27; `rve_rod.rve.paper_comparison.compare_run`):
+# cotton 20s/2 stitch 5.5, 28 control points per quarter loop (the fast level's), the default
+# bending; S in gf/cm at the given state of their run (t = k/20 on a ray, 3.3 degrees per state
+# in shear). Measured on main after the merges of issues 29 and 32 (version 0.3.0).
+PAPER = "docs/validation.md (The paper group's RVE)"
+PAPER_COMPARISON_FAST = {
+    "ray 45 S11 state 6": Pin(16.145556258342886, SOLVED, PAPER),
+    "ray 45 S22 state 6": Pin(36.94623352500476, SOLVED, PAPER),
+    "ray -83 S22 state 8": Pin(-1.235401017229446, SOLVED, PAPER),
+    "ray 128 S11 state 9": Pin(-18.298231284523144, SOLVED, PAPER),
+    "ray 128 S22 state 9": Pin(37.38236586492049, SOLVED, PAPER),
+    "shear S12 state 6": Pin(3.3758622669310916, SOLVED, PAPER),
+    "shear S12 state 12": Pin(12.424886444612708, SOLVED, PAPER),
+}
+
 TABLES = {
     "RVE_FAST": RVE_FAST,
     "RVE_PAPER_RESOLUTION": RVE_PAPER_RESOLUTION,
@@ -248,6 +264,7 @@ TABLES = {
     "IMAGING": IMAGING,
     "DEMOS": DEMOS,
     "BALL_BURST": BALL_BURST,
+    "PAPER_COMPARISON_FAST": PAPER_COMPARISON_FAST,
 }
 
 

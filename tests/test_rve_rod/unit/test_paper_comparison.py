@@ -1,0 +1,68 @@
+"""The comparison with the paper group's runs: the error measure on runs of known answer."""
+
+import numpy as np
+import pytest
+
+from rve_rod.presets import load_preset
+from rve_rod.rve.paper_comparison import RunComparison, compare_run
+from rve_rod.rve.paper_data import biaxial_rays, shear_run
+from rve_rod.rve.simulation import RveSettings
+
+
+class _Step:
+    def __init__(self, second):
+        self.second_piola = second
+
+
+class _Result:
+    def __init__(self, steps):
+        self.steps = steps
+
+
+def echo(run, scale=1.0, stop=None):
+    """A runner that returns their own S (times `scale`), stopping after `stop` states."""
+
+    def runner(fabric, case, settings):
+        count = case.steps - 1 if stop is None else stop
+        steps = [_Step(np.zeros(3))]
+        for S in run.second_piola[:count]:
+            steps.append(_Step(scale * np.array([S[0, 0], S[1, 1], 0.5 * (S[0, 1] + S[1, 0])])))
+        return _Result(steps)
+
+    return runner
+
+
+@pytest.mark.parametrize("kind", ["ray", "shear"])
+def test_their_own_stresses_compare_with_zero_error_and_scaled_ones_with_the_scale(kind):
+    run = biaxial_rays(5.5)[6] if kind == "ray" else shear_run(5.5)
+    fabric = load_preset("cotton-20s2", 5.5)
+    exact = compare_run(fabric, run, RveSettings(), runner=echo(run))
+    assert exact.worst() == pytest.approx(0.0, abs=1e-15)
+    assert exact.passed()
+    # S scaled by 1.3 everywhere: the error at each state is 0.3 times the state's largest
+    # compared component over the largest of the run so far, so 0.3 where it peaks
+    scaled = compare_run(fabric, run, RveSettings(), runner=echo(run, 1.3))
+    errors = scaled.errors()
+    assert errors.max() == pytest.approx(0.3, rel=1e-12)
+    assert np.all(errors <= 0.3 + 1e-12)
+    assert not scaled.passed()
+
+
+def test_a_run_that_stops_early_fails_with_its_missing_states_as_nan():
+    run = biaxial_rays(5.5)[1]
+    comparison = compare_run(
+        load_preset("cotton-20s2", 5.5), run, RveSettings(), runner=echo(run, stop=5)
+    )
+    assert isinstance(comparison, RunComparison)
+    assert (comparison.states, comparison.reached) == (run.converged, 5)
+    assert np.isnan(comparison.errors()[5:]).all()
+    assert comparison.worst() == np.inf
+
+
+def test_runs_without_converged_states_are_not_compared():
+    equibiaxial_compression = biaxial_rays(5.5)[0]
+    assert equibiaxial_compression.converged == 0
+    comparison = compare_run(
+        load_preset("cotton-20s2", 5.5), equibiaxial_compression, RveSettings()
+    )
+    assert (comparison.states, comparison.worst()) == (0, 0.0)

@@ -1,0 +1,66 @@
+"""The squeezed rest state (`YarnSettings.contact_radius = "measured"`, `LoopCell.rest_state`):
+the contact law at the yarn's radius r0 > r squeezes the unloaded loop's contacts; the cell
+starts from that equilibrium at F = I and measures its stresses from it."""
+
+import numpy as np
+import pytest
+
+from rve_rod.presets import load_preset
+from rve_rod.rve.cell import CellSettings
+from rve_rod.rve.load_cases import load_case
+from rve_rod.rve.simulation import RveSettings, simulate
+from rve_rod.rve.yarn import YarnSettings, yarn_model
+from rve_rod.units import n_per_mm_to_gf_per_cm
+
+pytestmark = pytest.mark.slow
+
+SQUEEZED = RveSettings(
+    cell=CellSettings(control_points=28),
+    yarn=YarnSettings(bending="free-fibres", contact_radius="measured"),
+)
+
+
+@pytest.fixture(scope="module")
+def course():
+    return simulate(load_preset("cotton-20s2", 5.5), load_case("uniaxial-course", 0.1, 5), SQUEEZED)
+
+
+def test_the_contact_law_acts_at_the_measured_radius():
+    fabric = load_preset("cotton-20s2", 5.5)
+    yarn = yarn_model(fabric, SQUEEZED.yarn)
+    assert yarn.law.yarn_radius == fabric.yarn.minimal_radius > yarn.radius
+
+
+def test_the_rest_state_is_pre_loaded_and_the_stresses_start_from_it(course):
+    """At rest the squeezed contacts load the cell (P0 of a few gf/cm, tensile along both
+    axes: the interlocks pushed apart pull the yarn taut); the reported stress starts at zero,
+    the course height stays the measured one, and the free direction keeps its rest load."""
+    rest = n_per_mm_to_gf_per_cm(course.rest_stress)
+    assert rest[0, 0] > 1.0 and rest[1, 1] > 1.0
+    first = course.steps[0]
+    np.testing.assert_allclose(first.first_piola, 0.0, atol=1e-8)
+    assert first.lateral_strain == pytest.approx(0.0, abs=1e-9)
+    for step in course.steps:
+        assert abs(step.first_piola[1, 1]) <= 1e-8 + 1e-3 * abs(step.first_piola[0, 0])
+    assert course.complete and course.steps[-1].force_gf_per_cm > 1.0
+
+
+def test_the_stress_parts_sum_to_the_rest_stress_plus_the_reported_stress(course):
+    for step in course.steps:
+        np.testing.assert_allclose(
+            step.stress_parts.sum(axis=0), step.first_piola + course.rest_stress, atol=1e-12
+        )
+
+
+def test_a_yarn_that_fits_its_loop_has_no_squeeze():
+    """Vassiliadis sample 2: r0 = 0.0923 mm < w/8, so r = r0 and "measured" is "adjusted"."""
+    fabric = load_preset("vassiliadis-sample2")
+    case = load_case("strip-biaxial-course", 0.05, 3)
+    cell = CellSettings(control_points=20)
+    runs = [
+        simulate(fabric, case, RveSettings(cell=cell, yarn=YarnSettings(contact_radius=radius)))
+        for radius in ("adjusted", "measured")
+    ]
+    np.testing.assert_array_equal(runs[0].rest_stress, 0.0)
+    np.testing.assert_array_equal(runs[1].rest_stress, 0.0)
+    np.testing.assert_array_equal(runs[0].series("first_piola"), runs[1].series("first_piola"))
