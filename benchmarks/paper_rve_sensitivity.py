@@ -123,7 +123,7 @@ def measure(variant: Variant, stitch: float, control_points: int) -> dict:
         "passed": int(np.sum(worst <= 0.2)),
         "rays": len(rays),
         "median": float(np.median(worst)),
-        "first": float(np.nanmean(np.where(np.isfinite(first), first, np.nan))),
+        "first": float(first[np.isfinite(first)].mean()) if np.isfinite(first).any() else np.nan,
         "shear": (float(shear[5]), float(shear[11])),
         "uniaxial": uniaxial,
     }
