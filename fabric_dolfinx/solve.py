@@ -31,6 +31,7 @@ import ufl
 from dolfinx import fem
 from petsc4py import PETSc
 
+import fabric_dolfinx.jit  # noqa: F401 (FFCx's compilation safe to interrupt, and quiet)
 from rve_rod import limits
 from rve_rod.errors import (
     ConvergenceError,

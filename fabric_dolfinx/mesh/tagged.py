@@ -18,6 +18,7 @@ import gmsh
 import numpy as np
 from mpi4py import MPI
 
+import fabric_dolfinx.jit  # noqa: F401 (FFCx's compilation safe to interrupt, and quiet)
 from fabric_dolfinx.spec.part import physical_groups
 from rve_rod.errors import InputError, check_integer
 

@@ -24,3 +24,33 @@ def test_first_use_is_quiet_and_verbose_logs_carry_the_rank(tmp_path):
     verbose = run("-v")
     lines = verbose.stderr.splitlines()
     assert lines and all(line.startswith("[rank 0] ") for line in lines)
+
+
+SESSION = """
+from fabric_dolfinx.material import OrthotropicSVK, svk_material
+from fabric_dolfinx.part.tension import TensionSetup
+from fabric_dolfinx.solve import SolverOptions
+from fabric_dolfinx.spec.tension import TensionTest
+
+test = TensionTest(direction="course", size=50.0, elements=2, max_strain=0.1)
+material = svk_material(OrthotropicSVK(10.0, 8.0, 0.3, 2.0))
+print(TensionSetup(material, test, SolverOptions(steps=2)).run().force_gf_per_cm[-1])
+"""
+
+
+def test_a_python_session_that_compiles_forms_prints_no_compiler_lines(tmp_path):
+    """UFL's `logging.basicConfig()` gives the root logger a stderr handler and the C build
+    lowers the root logger's level while it logs its gcc command lines there: a Python
+    session (the README's snippet) printed about 20 of them (`fabric_dolfinx.jit`)."""
+    environment = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "cache")}
+    run = subprocess.run(
+        [sys.executable, "-c", SESSION],
+        capture_output=True,
+        text=True,
+        env=environment,
+        check=True,
+        cwd=tmp_path,
+    )
+    assert (tmp_path / "cache" / "fenics").is_dir()  # FFCx compiled into the fresh cache
+    assert run.stderr == ""
+    assert float(run.stdout) > 0.0
