@@ -23,6 +23,8 @@ import time
 from pathlib import Path
 from typing import NamedTuple, TextIO
 
+from fabric_dolfinx.spec.mesh_checks import check_cells
+from fabric_dolfinx.spec.part import shape_cells
 from knitmech.fidelity import fidelity_level
 from knitmech.report import (
     compare_forces,
@@ -58,7 +60,7 @@ from rve_rod.cache import ResultCache, default_cache_root
 from rve_rod.errors import InputError, check_integer
 from rve_rod.homogenize.executors import ExecutorChoice
 from rve_rod.jsonable import to_jsonable
-from rve_rod.limits import available_cores
+from rve_rod.limits import PART_CELLS, available_cores
 from rve_rod.outputs import check_output_folder
 from rve_rod.rve.yarn import bending_model
 from rve_rod.surface import read_surface
@@ -98,7 +100,8 @@ def check_plan(
 ) -> None:
     """Problems a scene file alone does not show: an unreadable surface file, no mpirun, more
     MPI ranks than cores (unless `oversubscribe`), an mpi executor that was not launched as
-    one (InputError) or that would nest mpirun.
+    one (InputError) or that would nest mpirun, a built-in shape whose mesh at the level's
+    element size exceeds the cell budget (`fabric_dolfinx.spec.mesh_checks.check_cells`).
 
     Raises SceneError listing every problem (one per key)."""
     if executor is not None and plan.scene.surface.path is None:
@@ -122,6 +125,16 @@ def check_plan(
             f"macro.ranks: {plan.scene.macro.ranks} would start mpirun inside the MPI job of "
             "--executor mpi; set macro.ranks = 1 (the patch then runs on rank 0)"
         )
+    part = plan.scene.part
+    if part is not None and part.mesh.shape is not None:
+        mesh = part.mesh
+        cells = shape_cells(mesh)
+        try:
+            check_cells(f"{mesh.shape} of element_size {mesh.element_size:.4g} mm", cells, 0)
+            check_cells(f"{mesh.shape} of {cells:.4g} cells", cells, mesh.refinements)
+        except InputError as error:
+            key = "refinements" if cells <= PART_CELLS else "element_size"
+            problems.append(f"fabric.shape.{key}: {error}")
     if problems:
         raise SceneError(repr(plan.scene.name), problems)
 

@@ -28,7 +28,8 @@ from mpi4py import MPI
 
 from fabric_dolfinx.mesh.surfaces import tube_mesh
 from fabric_dolfinx.mesh.tagged import MESH_DIRECTORY, mesh_gmsh_model, read_geo
-from fabric_dolfinx.spec.part import MeshSpec, shape_size
+from fabric_dolfinx.spec.mesh_checks import check_cells
+from fabric_dolfinx.spec.part import MeshSpec, shape_cells, shape_size
 from rve_rod.errors import InputError
 
 __all__ = [
@@ -45,6 +46,11 @@ def make_mesh(
         path = Path(spec.file) if base is None else Path(base) / spec.file
         return read_geo(path, comm, spec.parameters, spec.refinements, gdim=3 if space else 2)
     size = spec.element_size or shape_size(spec) / 10.0
+    check_cells(
+        f"shape {spec.shape} with element_size {size:.4g} mm",
+        shape_cells(spec, size),
+        spec.refinements,
+    )
     if spec.shape == "plate_with_hole":
         width, height = spec.dimension("width"), spec.dimension("height")
         radius = spec.dimension("radius")

@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 
 from fabric_dolfinx.spec.expression import FieldExpression
+from fabric_dolfinx.spec.mesh_checks import check_geo_parameters
 from fabric_dolfinx.spec.part import (
     BOUNDARY_KINDS,
     COMPONENTS,
@@ -164,8 +165,12 @@ def read_part(
         spec = _read_mesh(mesh, problems, base)
     contents = None  # a gmsh file's physical groups and element centres
     if spec is not None and spec.file is not None and Path(spec.file).is_file():
+        refused = check_geo_parameters(spec.file, spec.parameters)
+        problems.extend(f"fabric.mesh.parameters.{problem}" for problem in refused)
         try:
-            contents = gmsh_contents(spec.file, spec.parameters, spec.refinements)
+            if not refused:
+                plane = "space" not in data
+                contents = gmsh_contents(spec.file, spec.parameters, spec.refinements, plane=plane)
         except InputError as error:
             problems.append(f"fabric.mesh.file: {error}")
     region_specs = tuple(
@@ -394,17 +399,17 @@ def _read_region(index: int, table: dict, problems: list[str], base: Path | None
         name = f"region-{index}"
     where = table.get("where")
     if where is not None:
-        where = _expression(f"{prefix}.where", where, problems)
+        where = _expression(f"{prefix}.where", where, problems, "condition")
     angle = table.get("angle", 0.0)
     if isinstance(angle, str):
-        angle = _expression(f"{prefix}.angle", angle, problems) or 0.0
+        angle = _expression(f"{prefix}.angle", angle, problems, "a course direction") or 0.0
     elif isinstance(angle, bool) or not isinstance(angle, int | float) or not -360 <= angle <= 360:
         problems.append(f"{prefix}.angle: {angle!r} is not a number in [-360, 360] degrees")
         angle = 0.0
     knit = {key: table[key] for key in KNIT_KEYS if key in table}
     graded = None
     if isinstance(knit.get("stitch"), str):
-        graded = _expression(f"{prefix}.stitch", knit.pop("stitch"), problems)
+        graded = _expression(f"{prefix}.stitch", knit.pop("stitch"), problems, "a stitch value")
     surface, svk = table.get("surface"), table.get("svk")
     given = [key for key, value in (("surface", surface), ("svk", svk)) if value is not None]
     if knit or graded is not None:
@@ -449,12 +454,18 @@ def _read_svk(prefix: str, table, problems: list[str]) -> dict[str, float] | Non
     return {k: float(v) for k, v in values.items()}
 
 
-def _expression(key: str, text, problems: list[str]) -> str | None:
+def _expression(key: str, text, problems: list[str], kind: str) -> str | None:
+    """`text` when it is an expression of x, y of `kind` ("condition", or what a value
+    expression gives, e.g. "a stitch value"), else None and a problem."""
     if not isinstance(text, str):
         problems.append(f"{key}: expected an expression of x, y (a string), got {text!r}")
         return None
     try:
-        FieldExpression(text, key)
+        expression = FieldExpression(text, key)
+        if kind == "condition":
+            expression.as_condition()
+        else:
+            expression.as_value(kind)
     except InputError as error:
         problems.append(str(error))
         return None
@@ -523,7 +534,8 @@ def _check_names(source: str, names, regions, boundaries, problems: list[str]) -
                 f"its boundaries: {', '.join(curves) or 'none'}"
             )
     for index, region in enumerate(regions):
-        if region.where is None and region.name not in surfaces:
+        refused = any(p.startswith(f"region[{index}].where:") for p in problems)
+        if region.where is None and region.name not in surfaces and not refused:
             problems.append(
                 f"region[{index}].name: {source} has no region {region.name!r} (its regions: "
                 f"{', '.join(surfaces) or 'none'}); a new region needs a where condition"

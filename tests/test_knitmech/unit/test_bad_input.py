@@ -27,6 +27,7 @@ import rve_rod.cli.geometry
 import rve_rod.cli.measure
 import rve_rod.cli.simulate
 import rve_rod.cli.surface
+from fabric_dolfinx.mesh.tagged import MESH_DIRECTORY
 from knitmech.scene import default_surface_path
 from rve_rod.imaging.synthetic import SyntheticPhoto, render_photo
 from rve_rod.limits import available_cores
@@ -59,6 +60,27 @@ TRIANGLES = """Point(1) = {0, 0, 0}; Point(2) = {10, 0, 0}; Point(3) = {0, 10, 0
 Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 1}; Curve Loop(1) = {1, 2, 3};
 Plane Surface(1) = {1}; Physical Curve("bottom") = {1}; Physical Surface("fabric") = {1};
 """
+
+SEAM = """DefineConstant[ size = {5, Name "Parameters/size"} ];
+Point(1) = {0, 0, 0, size}; Point(2) = {25, 0, 0, size}; Point(3) = {25, 50, 0, size};
+Point(4) = {0, 50, 0, size}; Point(5) = {50, 0, 0, size}; Point(6) = {50, 50, 0, size};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
+Line(5) = {2, 5}; Line(6) = {5, 6}; Line(7) = {6, 3}; Line(8) = {3, 2};
+Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+Curve Loop(2) = {5, 6, 7, 8}; Plane Surface(2) = {2};
+Physical Curve("left") = {4}; Physical Curve("right") = {6};
+Physical Surface("fabric") = {1, 2}; Mesh.RecombineAll = 1;
+"""
+"""Two squares with their own lines along x = 25 (a non-conforming mesh: the seam carries no
+load); {seam} in a row."""
+UPRIGHT = """Point(1) = {0, 0, 0, 5}; Point(2) = {50, 0, 0, 5}; Point(3) = {50, 0, 50, 5};
+Point(4) = {0, 0, 50, 5}; Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4};
+Line(4) = {4, 1}; Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+Physical Curve("bottom") = {1}; Physical Surface("fabric") = {1}; Mesh.RecombineAll = 1;
+"""
+"""A square drawn in the x-z plane; {upright} in a row."""
+PLATE = "[fabric.mesh]\nfile = '{plate}'\n[[boundary]]\nname = 'left'\nkind = 'clamp'\n"
+"""The repository's plate with a hole as the user's own .geo file ({plate})."""
 
 # tool, arguments, scene lines (for {scene}), exit status, words of the message
 TABLE = [
@@ -160,6 +182,79 @@ TABLE = [
         2,
         "boundary: conditions overlap, 'bottom' is given twice",
     ),
+    # silent wrong answers on parts (issue 31)
+    (
+        "knitmech",
+        "run {scene}",
+        "[fabric.mesh]\nfile = '{seam}'\n[[boundary]]\nname = 'left'\nkind = 'clamp'",
+        2,
+        "seam.geo: the mesh is not conforming: ",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PLATE}[fabric.mesh.parameters]\nsise = 5.0",
+        2,
+        "fabric.mesh.parameters.sise: plate_with_hole.geo declares no parameter 'sise'",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PLATE}[fabric.mesh.parameters]\nsize = 0.0",
+        2,
+        "fabric.mesh.parameters.size: 0 must be > 0 (a .geo parameter is a length or a size",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PART}[[region]]\nname = 'fabric'\nangle = 'x > 25'",
+        2,
+        "region[0].angle: 'x > 25' is a condition (true or false), not a course direction",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PART}[[region]]\nname = 'fabric'\n[[region]]\nname = 'band'\nwhere = 'x + 5'",
+        2,
+        "region[1].where: 'x + 5' is a value, not a condition",
+    ),
+    # runaway meshes and crashes (issue 31)
+    (
+        "knitmech",
+        "run {scene}",
+        PART.replace("height = 200.0", "height = 200.0\nelement_size = 0.001"),
+        2,
+        "fabric.shape.element_size: rectangle of element_size 0.001 mm gives about 1e+10 cells",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        PART.replace("height = 200.0", "height = 200.0\nrefinements = 6"),
+        2,
+        "fabric.shape.refinements: rectangle of 144 cells gives about 5.9e+05 cells after 6",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PLATE}[fabric.mesh.parameters]\nsize = 0.01",
+        2,
+        "plate_with_hole.geo (estimated from its boundary, at least) gives about",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PLATE}[fabric.mesh.parameters]\nsize = -5.0",
+        2,
+        "fabric.mesh.parameters.size: -5 must be > 0",
+    ),
+    # refused late (issue 31)
+    (
+        "knitmech",
+        "run {scene}",
+        "[fabric.mesh]\nfile = '{upright}'\n[[boundary]]\nname = 'bottom'\nkind = 'clamp'",
+        2,
+        "upright.geo: the mesh is not in the x-y plane (it spans x 50 mm, y 0 mm, z 50 mm)",
+    ),
 ]
 
 
@@ -193,14 +288,18 @@ def test_bad_input_one_line_naming_the_parameter_before_any_work(
     }
     places["dir"].mkdir()
     places["file"].write_text("not a folder")
-    places["tri"] = tmp_path / "tri.geo"
-    places["tri"].write_text(TRIANGLES)
+    for name, text in (("tri", TRIANGLES), ("seam", SEAM), ("upright", UPRIGHT)):
+        places[name] = tmp_path / f"{name}.geo"
+        places[name].write_text(text)
+    places["plate"] = MESH_DIRECTORY / "plate_with_hole.geo"
     text = (
         scene
         if scene.startswith("name")
         else SCENE.replace("stitch = 5.5", f"stitch = 5.5\n{scene}")
     )
-    places["scene"].write_text(text.replace("{tri}", str(places["tri"])))
+    for name in ("tri", "seam", "upright", "plate"):
+        text = text.replace(f"{{{name}}}", str(places[name]))
+    places["scene"].write_text(text)
     argv = [argument.format(**places) for argument in arguments.split()]
     if tool == "knitmech" and "--cache-dir" not in argv:
         argv += ["--cache-dir", str(tmp_path / "cache")]
