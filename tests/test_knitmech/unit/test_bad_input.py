@@ -79,6 +79,13 @@ Line(4) = {4, 1}; Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
 Physical Curve("bottom") = {1}; Physical Surface("fabric") = {1}; Mesh.RecombineAll = 1;
 """
 """A square drawn in the x-z plane; {upright} in a row."""
+CRASH = """Point(1) = {0, 0, 0, 5}; Point(2) = {50, 0, 0, 5}; Point(3) = {50, 50, 0, 5};
+Point(4) = {0, 50, 0, 5}; Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4};
+Line(4) = {4, 1}; Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+Physical Curve("bottom") = {1}; Physical Surface("fabric") = {1};
+Mesh.Algorithm = 8; Mesh.RecombineAll = 1;
+"""
+"""A square meshed by gmsh 4.8's algorithm 8, which crashes it (SIGSEGV); {crash}."""
 PLATE = "[fabric.mesh]\nfile = '{plate}'\n[[boundary]]\nname = 'left'\nkind = 'clamp'\n"
 """The repository's plate with a hole as the user's own .geo file ({plate})."""
 
@@ -247,6 +254,13 @@ TABLE = [
         2,
         "fabric.mesh.parameters.size: -5 must be > 0",
     ),
+    (
+        "knitmech",
+        "run {scene}",
+        "[fabric.mesh]\nfile = '{crash}'\n[[boundary]]\nname = 'bottom'\nkind = 'clamp'",
+        2,
+        "crash.geo: gmsh crashed (SIGSEGV) while meshing it; another Mesh.Algorithm may help",
+    ),
     # refused late (issue 31)
     (
         "knitmech",
@@ -288,7 +302,8 @@ def test_bad_input_one_line_naming_the_parameter_before_any_work(
     }
     places["dir"].mkdir()
     places["file"].write_text("not a folder")
-    for name, text in (("tri", TRIANGLES), ("seam", SEAM), ("upright", UPRIGHT)):
+    geo = (("tri", TRIANGLES), ("seam", SEAM), ("upright", UPRIGHT), ("crash", CRASH))
+    for name, text in geo:
         places[name] = tmp_path / f"{name}.geo"
         places[name].write_text(text)
     places["plate"] = MESH_DIRECTORY / "plate_with_hole.geo"
@@ -297,7 +312,7 @@ def test_bad_input_one_line_naming_the_parameter_before_any_work(
         if scene.startswith("name")
         else SCENE.replace("stitch = 5.5", f"stitch = 5.5\n{scene}")
     )
-    for name in ("tri", "seam", "upright", "plate"):
+    for name in ("tri", "seam", "upright", "crash", "plate"):
         text = text.replace(f"{{{name}}}", str(places[name]))
     places["scene"].write_text(text)
     argv = [argument.format(**places) for argument in arguments.split()]
