@@ -316,3 +316,25 @@ def test_a_multi_region_part_gives_the_same_answer_under_mpirun(tmp_path):
     for name, probe in serial["probes"].items():
         np.testing.assert_allclose(parallel["probes"][name]["cauchy"], probe["cauchy"], atol=1e-10)
     assert serial["boundaries"]["top"]["force"][-1][1] > 0.1
+
+
+@pytest.mark.slow
+def test_the_slack_l_bracket_reaches_its_load_in_equilibrium(tmp_path, cache):
+    """A force on a part at rest (issue 31): with increments cut no lower than 1/1024 of the
+    load it stopped at 0 steps whatever the number of steps. Now every step converges; the
+    held edge's reaction balances the tip's load in every step, and 10 or 40 steps end in
+    the same state (the path of a hyperelastic-like law does not depend on its steps)."""
+    part, _ = run_example("l_bracket", tmp_path / "ten", cache)
+    load = np.array([0.035355, -0.035355]) * 40.0  # N: traction times the tip's length
+    factors = np.array(part["load_factor"])
+    assert factors[-1] == 1.0
+    reaction = np.array(part["boundaries"]["top"]["force"])
+    np.testing.assert_allclose(reaction, -factors[:, None] * load, rtol=1e-8, atol=1e-10)
+    tip = np.array(part["boundaries"]["tip"]["displacement"])[-1]
+
+    def forty_steps(data):
+        data["macro"]["steps"] = 40
+
+    finer, _ = run_example("l_bracket", tmp_path / "forty", cache, forty_steps)
+    np.testing.assert_allclose(finer["boundaries"]["tip"]["displacement"][-1], tip, rtol=1e-6)
+    print(f"tip displacement {tip} mm, {len(factors) - 1} steps, {part['cutbacks']} cutbacks")
