@@ -46,7 +46,14 @@ from knitmech.stages import (
     plan_run,
     surface_stage,
 )
-from knitmech.stages.cache import GIVEN, Stage, StageCache, StageRecord, remove_stale_work
+from knitmech.stages.cache import (
+    GIVEN,
+    Stage,
+    StageCache,
+    StageRecord,
+    remove_stale_work,
+    results_folder_lock,
+)
 from knitmech.stages.fabric import (
     fabric_job,
     fabric_stage,
@@ -155,7 +162,8 @@ def run_scene(  # noqa: PLR0913 (the scene and the keyword options of `knitmech 
     Args:
         scene: the study (`knitmech.scene.load_scene`).
         fidelity: a level name overriding the scene's.
-        output: the results folder (created; files of an earlier run there are replaced).
+        output: the results folder (created; files of an earlier run there are replaced;
+            held for the run: a second run into it is refused, `results_folder_lock`).
         cache_dir: root of the stage cache (`stages/`) and the RVE-run cache (`rve-runs/`,
             shared with `rve-rod surface`); default `rve_rod.cache.default_cache_root()`.
         jobs: local worker processes for the surface's RVE runs.
@@ -177,96 +185,94 @@ def run_scene(  # noqa: PLR0913 (the scene and the keyword options of `knitmech 
     plan = plan_run(scene, fidelity_level(fidelity or scene.fidelity))
     check_plan(plan, choice, oversubscribe=oversubscribe)
     cache_dir = cache_dir if cache_dir is not None else default_cache_root()
-    _clear_previous(folder)
-    if folder.is_dir():
-        remove_stale_work(folder)
-    stages = StageCache(cache_dir / "stages")
-    records: list[StageRecord] = []
-
-    def run(stage: Stage) -> dict:
-        outcome = stages.run(stage, folder)
-        records.append(outcome.record)
-        return outcome.summary
-
     created = not folder.exists()
-    try:
-        geometry = GeometrySummary.from_json(run(geometry_stage(plan)))
-    except InputError as error:
-        if created:
-            shutil.rmtree(folder, ignore_errors=True)
-        keys = ", ".join(f"fabric.{k}" for k in ("wale_width", "course_height", "yarn_radius"))
-        raise SceneError(repr(plan.scene.name), [f"{keys}: {error}"]) from None
-    bending_model(plan.fabric, plan.scene.fabric.bending, report=True)  # warns of a fallback
-    meso = {stage.item: MesoSummary.from_json(run(stage)) for stage in meso_stages(plan)}
-    part = plan.scene.part
-    knits = knit_surfaces(plan) if part is not None else None
-    surface = None
-    if knits is None or knits.scene_knit:
-        if plan.scene.surface.path is None:
-            runs = SurfaceRuns(ResultCache(cache_dir / "rve-runs"), choice, progress)
-            surface = SurfaceSummary.from_json(run(surface_stage(plan, runs)))
-        else:
-            begun = time.perf_counter()
-            surface = given_surface(Path(plan.scene.surface.path), folder)
-            files = (SURFACE_FILE, SURFACE_FIGURE)
-            records.append(
-                StageRecord("surface", "", GIVEN, time.perf_counter() - begun, "", files)
-            )
-    macro, fabric, knit_summaries = {}, None, {}
-    if part is None:
-        macro = {
-            stage.item: PatchSummary.from_json(run(stage))
-            for stage in macro_stages(plan, folder / SURFACE_FILE)
-        }
-    else:
-        runs = SurfaceRuns(ResultCache(cache_dir / "rve-runs"), choice, progress)
-        for label, knit in knits.others.items():
-            stage = in_subfolder(surface_stage(plan._replace(fabric=knit), runs), label)
-            knit_summaries[label] = run(stage)
-        job = fabric_job(plan, knits, folder)
-        fabric = run(fabric_stage(job, plan.scene.macro.ranks))
+    with results_folder_lock(folder, "output"):
+        _clear_previous(folder)
+        remove_stale_work(folder)
+        stages = StageCache(cache_dir / "stages")
+        records: list[StageRecord] = []
 
-    report_started = time.perf_counter()
-    records = tuple(records)
-    summary = {
-        "scene": plan.scene.to_dict(),
-        "fidelity": dataclasses.asdict(plan.fidelity),
-        "package_version": __version__,
-        "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
-        "fabric": dataclasses.asdict(plan.fabric),
-        "geometry": geometry.to_json(),
-        "meso": {name: record.to_json() for name, record in meso.items()},
-        "surface": surface.to_json() if surface is not None else {},
-        "macro": {name: record.to_json() for name, record in macro.items()},
-        "forces": compare_forces(meso, macro),
-        "poisson_ratios": poisson_ratios(meso, macro),
-        "stages": [dataclasses.asdict(record) for record in records],
-    }
-    if part is not None:
-        summary["knits"] = knit_summaries
-        summary["part"] = fabric
-    written = [SUMMARY_FILE, "summary.txt", "scene.toml"]
-    (folder / "scene.toml").write_text(
-        f"# the scene as run (fidelity {plan.fidelity.name} filled in), knitmech {__version__}\n"
-        + plan.scene.to_toml()
-    )
-    if macro or meso:
-        (folder / "figures").mkdir(exist_ok=True)
-        title = f"{plan.scene.name} (fidelity {plan.fidelity.name})"
-        plot_comparison(meso, macro, folder / "figures" / "force_strain.png", title)
-        written.append("figures/force_strain.png")
-    timings = stage_timings(records)
-    timings["report"] = time.perf_counter() - report_started
-    timings["total"] = time.perf_counter() - started
-    summary["timings_s"] = timings
-    summary["files"] = sorted({name for r in records for name in r.files} | set(written))
-    summary = to_jsonable(summary)
-    table = summary_table(summary)
-    if fabric is not None:
-        table += "\n" + fabric_table(fabric)
-    (folder / "summary.txt").write_text(table + "\n")
-    (folder / SUMMARY_FILE).write_text(json.dumps(summary, indent=1, allow_nan=False))
-    return PipelineResult(plan, folder, summary, records, table)
+        def run(stage: Stage) -> dict:
+            outcome = stages.run(stage, folder)
+            records.append(outcome.record)
+            return outcome.summary
+
+        try:
+            geometry = GeometrySummary.from_json(run(geometry_stage(plan)))
+        except InputError as error:
+            if created:
+                shutil.rmtree(folder, ignore_errors=True)
+            keys = ", ".join(f"fabric.{k}" for k in ("wale_width", "course_height", "yarn_radius"))
+            raise SceneError(repr(plan.scene.name), [f"{keys}: {error}"]) from None
+        bending_model(plan.fabric, plan.scene.fabric.bending, report=True)  # warns of a fallback
+        meso = {stage.item: MesoSummary.from_json(run(stage)) for stage in meso_stages(plan)}
+        part = plan.scene.part
+        knits = knit_surfaces(plan) if part is not None else None
+        surface = None
+        if knits is None or knits.scene_knit:
+            if plan.scene.surface.path is None:
+                runs = SurfaceRuns(ResultCache(cache_dir / "rve-runs"), choice, progress)
+                surface = SurfaceSummary.from_json(run(surface_stage(plan, runs)))
+            else:
+                begun = time.perf_counter()
+                surface = given_surface(Path(plan.scene.surface.path), folder)
+                files = (SURFACE_FILE, SURFACE_FIGURE)
+                records.append(
+                    StageRecord("surface", "", GIVEN, time.perf_counter() - begun, "", files)
+                )
+        macro, fabric, knit_summaries = {}, None, {}
+        if part is None:
+            macro = {
+                stage.item: PatchSummary.from_json(run(stage))
+                for stage in macro_stages(plan, folder / SURFACE_FILE)
+            }
+        else:
+            runs = SurfaceRuns(ResultCache(cache_dir / "rve-runs"), choice, progress)
+            for label, knit in knits.others.items():
+                stage = in_subfolder(surface_stage(plan._replace(fabric=knit), runs), label)
+                knit_summaries[label] = run(stage)
+            job = fabric_job(plan, knits, folder)
+            fabric = run(fabric_stage(job, plan.scene.macro.ranks))
+
+        report_started = time.perf_counter()
+        records = tuple(records)
+        summary = {
+            "scene": plan.scene.to_dict(),
+            "fidelity": dataclasses.asdict(plan.fidelity),
+            "package_version": __version__,
+            "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+            "fabric": dataclasses.asdict(plan.fabric),
+            "geometry": geometry.to_json(),
+            "meso": {name: record.to_json() for name, record in meso.items()},
+            "surface": surface.to_json() if surface is not None else {},
+            "macro": {name: record.to_json() for name, record in macro.items()},
+            "forces": compare_forces(meso, macro),
+            "poisson_ratios": poisson_ratios(meso, macro),
+            "stages": [dataclasses.asdict(record) for record in records],
+        }
+        if part is not None:
+            summary["knits"] = knit_summaries
+            summary["part"] = fabric
+        written = [SUMMARY_FILE, "summary.txt", "scene.toml"]
+        header = f"# the scene as run (fidelity {plan.fidelity.name} filled in), knitmech "
+        (folder / "scene.toml").write_text(f"{header}{__version__}\n" + plan.scene.to_toml())
+        if macro or meso:
+            (folder / "figures").mkdir(exist_ok=True)
+            title = f"{plan.scene.name} (fidelity {plan.fidelity.name})"
+            plot_comparison(meso, macro, folder / "figures" / "force_strain.png", title)
+            written.append("figures/force_strain.png")
+        timings = stage_timings(records)
+        timings["report"] = time.perf_counter() - report_started
+        timings["total"] = time.perf_counter() - started
+        summary["timings_s"] = timings
+        summary["files"] = sorted({name for r in records for name in r.files} | set(written))
+        summary = to_jsonable(summary)
+        table = summary_table(summary)
+        if fabric is not None:
+            table += "\n" + fabric_table(fabric)
+        (folder / "summary.txt").write_text(table + "\n")
+        (folder / SUMMARY_FILE).write_text(json.dumps(summary, indent=1, allow_nan=False))
+        return PipelineResult(plan, folder, summary, records, table)
 
 
 def _clear_previous(folder: Path) -> None:
