@@ -37,7 +37,7 @@ from rve_rod.errors import (
 )
 from rve_rod.help_format import HelpFormatter
 from rve_rod.log_setup import install_handler
-from rve_rod.outputs import check_output_file, ignore_broken_pipe
+from rve_rod.outputs import check_output_file, figure_formats, ignore_broken_pipe
 from rve_rod.surface import read_surface
 
 __all__ = [
@@ -123,9 +123,10 @@ def build_parser() -> argparse.ArgumentParser:
 def run_tension_command(args: argparse.Namespace) -> int:
     """The `tension` subcommand; returns the exit status."""
     comm = MPI.COMM_WORLD
-    for name, path in (("--xdmf", args.xdmf), ("--plot", args.plot)):
-        if path is not None:
-            check_output_file(name, path)
+    if args.xdmf is not None:
+        check_output_file("--xdmf", args.xdmf)
+    if args.plot is not None:
+        check_output_file("--plot", args.plot, figure_formats())
     test = TensionTest(
         direction=args.direction,
         size=args.size,

@@ -22,7 +22,7 @@ from rve_rod.homogenize.fit import FitOptions, FitReport
 from rve_rod.homogenize.generate import GenerationError, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
 from rve_rod.limits import check_count
-from rve_rod.outputs import check_output_file, check_output_folder
+from rve_rod.outputs import check_output_file, check_output_folder, figure_formats
 from rve_rod.rve.engine import fabric_settings, surface_engine
 from rve_rod.rve.yarn import bending_model
 from rve_rod.surface import (
@@ -110,7 +110,7 @@ def register(subparsers) -> None:
 def run_surface(args: argparse.Namespace) -> int:
     output = check_output_file("--output", args.output)
     if args.plot is not None:
-        check_output_file("--plot", args.plot)
+        check_output_file("--plot", args.plot, figure_formats())
     cache_dir = check_output_folder("--cache-dir", args.cache_dir) if args.cache_dir else None
     check_count("--rays", args.rays, limits.RAYS)
     check_count("--control-points", args.control_points, limits.CONTROL_POINTS)

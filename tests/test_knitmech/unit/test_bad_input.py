@@ -27,6 +27,7 @@ import rve_rod.cli.geometry
 import rve_rod.cli.measure
 import rve_rod.cli.simulate
 import rve_rod.cli.surface
+import rve_rod.cli.synth_photo
 from fabric_dolfinx.mesh.tagged import MESH_DIRECTORY
 from knitmech.scene import default_surface_path
 from rve_rod.imaging.synthetic import SyntheticPhoto, render_photo
@@ -119,6 +120,11 @@ TABLE = [
         "bending='free-fibres' needs the yarn's fibres",
     ),
     ("knitmech", "run {scene}", "bending = 'wood'", 2, "fabric.bending: 'wood' is unknown"),
+    # image formats checked after the work (issue 31)
+    ("rve-rod", f"geometry {FABRIC} --plot x.foo", "", 2, "--plot x.foo: .foo is not a format"),
+    ("rve-rod", f"simulate {FABRIC} --plot x.foo", "", 2, "--plot x.foo: .foo is not a format"),
+    ("fabric-dolfinx", f"{SVK} --plot x.foo", "", 2, "--plot x.foo: .foo is not a format"),
+    ("rve-rod", f"synth-photo {FABRIC} -o x.foo", "", 2, "--output x.foo: .foo is not a format"),
     # hangs and runaway resources before
     ("rve-rod", f"simulate {FABRIC} --control-points 100000", "", 2, "[20, 300]"),
     ("rve-rod", f"simulate {FABRIC} --steps 1000000", "", 2, "steps=1000000 is outside"),
@@ -284,6 +290,7 @@ def no_work(monkeypatch):
     monkeypatch.setattr(rve_rod.cli.simulate, "simulate", _tripwire)
     monkeypatch.setattr(rve_rod.cli.surface, "generate_surface", _tripwire)
     monkeypatch.setattr(rve_rod.cli.measure, "read_image", _tripwire)
+    monkeypatch.setattr(rve_rod.cli.synth_photo, "render_photo", _tripwire)
     monkeypatch.setattr(fabric_dolfinx.cli, "TensionSetup", _tripwire)
     monkeypatch.setattr(knitmech.pipeline.StageCache, "run", _tripwire)
 
