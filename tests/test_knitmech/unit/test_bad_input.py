@@ -120,6 +120,21 @@ TABLE = [
         "bending='free-fibres' needs the yarn's fibres",
     ),
     ("knitmech", "run {scene}", "bending = 'wood'", 2, "fabric.bending: 'wood' is unknown"),
+    # scene files that are not UTF-8 text (issue 31)
+    (
+        "knitmech",
+        "run {binary}",
+        "",
+        2,
+        "scene file {binary}: not UTF-8 text (byte 0x89 at offset 0)",
+    ),
+    (
+        "knitmech",
+        "run {utf16}",
+        "",
+        2,
+        "scene file {utf16}: not UTF-8 text (it holds NUL bytes: UTF-16 without its",
+    ),
     # image formats checked after the work (issue 31)
     ("rve-rod", f"geometry {FABRIC} --plot x.foo", "", 2, "--plot x.foo: .foo is not a format"),
     ("rve-rod", f"simulate {FABRIC} --plot x.foo", "", 2, "--plot x.foo: .foo is not a format"),
@@ -309,6 +324,10 @@ def test_bad_input_one_line_naming_the_parameter_before_any_work(
     }
     places["dir"].mkdir()
     places["file"].write_text("not a folder")
+    places["binary"] = tmp_path / "photo.toml"  # a PNG's first bytes
+    places["binary"].write_bytes(b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR")
+    places["utf16"] = tmp_path / "utf16.toml"  # UTF-16 without its byte-order mark
+    places["utf16"].write_bytes(SCENE.encode("utf-16-le"))
     geo = (("tri", TRIANGLES), ("seam", SEAM), ("upright", UPRIGHT), ("crash", CRASH))
     for name, text in geo:
         places[name] = tmp_path / f"{name}.geo"
