@@ -34,6 +34,7 @@ from knitmech.report import (
     summary_table,
 )
 from knitmech.scene import Scene, SceneError
+from knitmech.scene.fabric import part_problems
 from knitmech.stages import (
     SURFACE_FIGURE,
     SURFACE_FILE,
@@ -108,7 +109,8 @@ def check_plan(
     """Problems a scene file alone does not show: an unreadable surface file, no mpirun, more
     MPI ranks than cores (unless `oversubscribe`), an mpi executor that was not launched as
     one (InputError) or that would nest mpirun, a built-in shape whose mesh at the level's
-    element size exceeds the cell budget (`fabric_dolfinx.spec.mesh_checks.check_cells`).
+    element size exceeds the cell budget (`fabric_dolfinx.spec.mesh_checks.check_cells`),
+    and what only the part's mesh shows (`knitmech.scene.fabric.part_problems`).
 
     Raises SceneError listing every problem (one per key)."""
     if executor is not None and plan.scene.surface.path is None:
@@ -142,6 +144,8 @@ def check_plan(
         except InputError as error:
             key = "refinements" if cells <= PART_CELLS else "element_size"
             problems.append(f"fabric.shape.{key}: {error}")
+    if part is not None and not problems:
+        problems += part_problems(part)
     if problems:
         raise SceneError(repr(plan.scene.name), problems)
 

@@ -21,6 +21,7 @@ from mpi4py import MPI
 import fabric_dolfinx.jit  # noqa: F401 (FFCx's compilation safe to interrupt, and quiet)
 from fabric_dolfinx.spec.mesh_checks import check_geo_parameters, check_gmsh_mesh
 from fabric_dolfinx.spec.part import mesh_gmsh_file, physical_groups
+from fabric_dolfinx.spec.shapes import MESH_DIRECTORY
 from rve_rod.errors import InputError, check_integer
 
 __all__ = [
@@ -29,9 +30,6 @@ __all__ = [
     "mesh_gmsh_model",
     "read_geo",
 ]
-
-MESH_DIRECTORY = Path(__file__).resolve().parents[2] / "meshes"
-"""The repository's folder of gmsh geometry files."""
 
 
 class TaggedMesh(NamedTuple):

@@ -5,41 +5,26 @@ meshes it); `BoundaryCondition`: what holds or loads one named boundary
 (`fabric_dolfinx.part.boundary` applies it).
 """
 
-import json
 import math
-import signal
-import subprocess
-import sys
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import NamedTuple
 
 import numpy as np
 
-from fabric_dolfinx.spec.mesh_checks import (
-    check_cells,
-    check_geo_parameters,
-    check_gmsh_mesh,
-    estimated_geo_cells,
-)
+from fabric_dolfinx.spec.mesh_checks import check_cells, estimated_geo_cells
 from rve_rod.errors import InputError, check_integer, check_positive
 
 __all__ = [
     "AXES",
     "BOUNDARY_KINDS",
     "COMPONENTS",
-    "GMSH_TIMEOUT_S",
     "QUADRILATERAL_TYPES",
     "SHAPES",
     "SHAPE_DIMENSIONS",
     "BoundaryCondition",
-    "GmshContents",
     "MeshSpec",
-    "gmsh_contents",
     "mesh_gmsh_file",
     "physical_groups",
-    "read_gmsh_contents",
     "shape_cells",
     "shape_points",
     "shape_size",
@@ -188,103 +173,6 @@ class BoundaryCondition:
     @property
     def dirichlet(self) -> bool:
         return self.kind in ("clamp", "displacement", "roller")
-
-
-class GmshContents(NamedTuple):
-    """What a gmsh file defines, read before anything runs.
-
-    Attributes:
-        curves: physical curve names (the boundaries).
-        surfaces: physical surface names (the regions).
-        centres: physical surface name -> (n, 2) centres (mm) of its elements (after the
-            refinements), where a graded stitch is checked and its members planned.
-    """
-
-    curves: list[str]
-    surfaces: list[str]
-    centres: dict[str, np.ndarray]
-
-
-GMSH_TIMEOUT_S = 300.0
-"""Seconds the scene check gives gmsh to mesh a part's file (the cell budget bounds the
-meshing; this bounds what it cannot foresee)."""
-
-
-def gmsh_contents(
-    path, parameters=None, refinements: int = 0, *, plane: bool = True
-) -> GmshContents:
-    """The physical groups of a gmsh `.geo` or `.msh` file and their elements' centres, after
-    the checks of `read_gmsh_contents`, made in a child process: some of gmsh 4.8's meshing
-    algorithms crash the process (`Mesh.Algorithm = 8`: a segmentation fault), and a scene
-    check must report that, not die of it. InputError when a check fails, gmsh cannot read
-    or mesh the file, crashes, or takes longer than GMSH_TIMEOUT_S."""
-    name = Path(path).name
-    request = {
-        "path": str(path),
-        "parameters": dict(parameters or {}),
-        "refinements": refinements,
-        "plane": plane,
-    }
-    with tempfile.TemporaryDirectory(prefix="knitmech-gmsh-") as folder:
-        result = Path(folder) / "contents.npz"
-        command = [sys.executable, "-m", "fabric_dolfinx.spec.gmsh_child", json.dumps(request)]
-        try:
-            run = subprocess.run(
-                [*command, str(result)],
-                capture_output=True,
-                text=True,
-                timeout=GMSH_TIMEOUT_S,
-                check=False,
-            )
-        except subprocess.TimeoutExpired:
-            raise InputError(f"{name}: gmsh did not mesh it in {GMSH_TIMEOUT_S:g} s") from None
-        if run.returncode < 0:
-            raise InputError(
-                f"{name}: gmsh crashed ({signal.Signals(-run.returncode).name}) while meshing "
-                "it; another Mesh.Algorithm may help (gmsh 4.8 crashes with 8)"
-            )
-        if run.returncode != 0:
-            lines = run.stderr.strip().splitlines() or ["no message"]
-            raise InputError(lines[-1] if run.returncode == 2 else f"{name}: {lines[-1]}")
-        with np.load(result) as stored:
-            curves, surfaces = json.loads(str(stored["names"]))
-            centres = {s: stored[f"centres_{i}"] for i, s in enumerate(surfaces)}
-    return GmshContents(curves, surfaces, centres)
-
-
-def read_gmsh_contents(
-    path, parameters=None, refinements: int = 0, *, plane: bool = True
-) -> GmshContents:
-    """`gmsh_contents` in this process: the file's parameters checked, the file meshed
-    (`mesh_gmsh_file`), the mesh checked (`fabric_dolfinx.spec.mesh_checks.check_gmsh_mesh`,
-    `plane`: a plane part's), refined, its physical groups checked (`physical_groups`)."""
-    import gmsh  # noqa: PLC0415 (gmsh only for scenes with a mesh file)
-
-    problems = check_geo_parameters(path, parameters or {})
-    if problems:
-        raise InputError(f"{Path(path).name}: parameters " + "; ".join(problems))
-    arguments = ["fabric_dolfinx"]
-    for name, value in (parameters or {}).items():
-        arguments += ["-setnumber", name, repr(float(value))]
-    gmsh.initialize(arguments)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        mesh_gmsh_file(path, refinements)
-        check_gmsh_mesh(Path(path).name, refinements, plane=plane)
-        for _ in range(refinements):
-            gmsh.model.mesh.refine()
-        curves, surfaces = physical_groups(Path(path).name)
-        centres = {}
-        for name, tag in surfaces.items():
-            points = [np.zeros((0, 2))]
-            for entity in gmsh.model.getEntitiesForPhysicalGroup(2, tag):
-                for kind in gmsh.model.mesh.getElementTypes(2, entity):
-                    centre = gmsh.model.mesh.getBarycenters(kind, entity, False, True)
-                    points.append(np.reshape(centre, (-1, 3))[:, :2])
-            centres[name] = np.concatenate(points)
-    finally:
-        gmsh.finalize()
-    return GmshContents(list(curves), list(surfaces), centres)
 
 
 def mesh_gmsh_file(path, refinements: int = 0) -> None:

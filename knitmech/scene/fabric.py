@@ -32,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from fabric_dolfinx.spec.contents import GmshContents, part_contents
 from fabric_dolfinx.spec.expression import FieldExpression
 from fabric_dolfinx.spec.mesh_checks import check_geo_parameters
 from fabric_dolfinx.spec.part import (
@@ -40,9 +41,7 @@ from fabric_dolfinx.spec.part import (
     SHAPE_DIMENSIONS,
     SHAPES,
     BoundaryCondition,
-    GmshContents,
     MeshSpec,
-    gmsh_contents,
     shape_points,
     shape_size,
 )
@@ -56,6 +55,7 @@ __all__ = [
     "KNIT_KEYS",
     "PartSpec",
     "RegionSpec",
+    "part_problems",
     "part_toml",
     "read_part",
     "region_knit",
@@ -169,8 +169,7 @@ def read_part(
         problems.extend(f"fabric.mesh.parameters.{problem}" for problem in refused)
         try:
             if not refused:
-                plane = "space" not in data
-                contents = gmsh_contents(spec.file, spec.parameters, spec.refinements, plane=plane)
+                contents = part_contents(spec, plane="space" not in data)
         except InputError as error:
             problems.append(f"fabric.mesh.file: {error}")
     region_specs = tuple(
@@ -230,6 +229,78 @@ def read_part(
     if len(problems) > count or spec is None:
         return None
     return PartSpec(spec, region_specs, boundary_specs, probes, space)
+
+
+def part_problems(part: PartSpec) -> list[str]:
+    """What only the part's mesh shows, found on the mesh gmsh makes of the resolved part (in
+    a child process, `fabric_dolfinx.spec.contents.part_contents`) before any stage runs: a
+    region that holds no cell, cells in no region (a physical surface not listed), a course
+    direction or graded stitch not finite at a cell centre or a stitch leaving its family,
+    a probe outside the part; and the mesh checks for a built-in shape. One problem per key;
+    the tube (a surface in space, one region, no probes) is checked when it is meshed."""
+    if part.mesh.shape == "tube":
+        return []
+    key = "fabric.mesh.file" if part.mesh.file is not None else "fabric.shape"
+    try:
+        contents = part_contents(part.mesh, plane=part.space is None)
+    except InputError as error:
+        return [f"{key}: {error}"]
+    names = list(contents.centres)
+    centres = np.concatenate([np.zeros((0, 2)), *(contents.centres[n] for n in names)])
+    surface = np.repeat(np.arange(len(names)), [len(contents.centres[n]) for n in names])
+    index = np.full(len(centres), -1)
+    for position, region in enumerate(part.regions):
+        if region.where is not None:
+            where = FieldExpression(region.where, f"region[{position}].where")
+            index[where(centres[:, 0], centres[:, 1]) != 0.0] = position
+        elif region.name in names:
+            index[surface == names.index(region.name)] = position
+    problems = []
+    for position, region in enumerate(part.regions):
+        cells = centres[index == position]
+        if not len(cells):
+            problems.append(
+                f"region[{position}]: {region.name!r} holds no cell of the mesh ({len(centres)} "
+                "cells; a later region may have taken them, or its where selects no cell centre)"
+            )
+            continue
+        expressions = [("angle", region.angle), ("stitch", region.graded_stitch)]
+        for name, text in expressions:
+            if not isinstance(text, str):
+                continue
+            try:
+                values = FieldExpression(text, f"region[{position}].{name}")(
+                    cells[:, 0], cells[:, 1]
+                )
+            except InputError as error:
+                problems.append(f"{error} (the centres of its cells)")
+                continue
+            members = region.members
+            if (
+                name == "stitch"
+                and members
+                and not (members[0] - 1e-9 <= values.min() and values.max() <= members[-1] + 1e-9)
+            ):
+                problems.append(
+                    f"region[{position}].stitch: {values.min():.4g} ... {values.max():.4g} mm at "
+                    f"its cells leaves the members [{members[0]:g}, {members[-1]:g}] mm"
+                )
+    missing = np.flatnonzero(index < 0)
+    if len(missing) and not problems:
+        listed = {region.name for region in part.regions}
+        others = sorted({names[i] for i in surface[missing]} - listed)
+        problems.append(
+            f"region: {len(missing)} cells belong to no region (physical surfaces not listed: "
+            f"{', '.join(others) or 'none'}); add a region for them"
+        )
+    points = np.array(list(part.probes.values())).reshape(-1, 2)
+    for position, (name, inside) in enumerate(
+        zip(part.probes, contents.contains(points), strict=True)
+    ):
+        if not inside:
+            x, y = part.probes[name]
+            problems.append(f"probe[{position}] {name!r}: ({x:g}, {y:g}) mm is not in the part")
+    return problems
 
 
 def _read_probes(value, problems: list[str]) -> dict[str, tuple[float, float]]:

@@ -87,6 +87,16 @@ Physical Curve("bottom") = {1}; Physical Surface("fabric") = {1};
 Mesh.Algorithm = 8; Mesh.RecombineAll = 1;
 """
 """A square meshed by gmsh 4.8's algorithm 8, which crashes it (SIGSEGV); {crash}."""
+TWO = (
+    SEAM.replace("Line(8) = {3, 2};", "")
+    .replace("{5, 6, 7, 8}", "{5, 6, 7, -2}")
+    .replace(
+        'Physical Surface("fabric") = {1, 2};',
+        'Physical Surface("a") = {1}; Physical Surface("b") = {2};',
+    )
+)
+"""The two squares of SEAM sharing their line along x = 25, in two physical surfaces a and b
+(a conforming mesh); {two} in a row."""
 PLATE = "[fabric.mesh]\nfile = '{plate}'\n[[boundary]]\nname = 'left'\nkind = 'clamp'\n"
 """The repository's plate with a hole as the user's own .geo file ({plate})."""
 
@@ -286,6 +296,35 @@ TABLE = [
     (
         "knitmech",
         "run {scene}",
+        f"{PART}[[probe]]\nname = 'far'\nx = 500.0\ny = 0.0",
+        2,
+        "probe[0] 'far': (500, 0) mm is not in the part",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PART}[[region]]\nname = 'fabric'\n[[region]]\nname = 'band'\nwhere = 'x > 500'",
+        2,
+        "region[1]: 'band' holds no cell of the mesh (144 cells;",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        "[fabric.mesh]\nfile = '{two}'\n[[region]]\nname = 'a'\n"
+        "[[boundary]]\nname = 'left'\nkind = 'clamp'",
+        2,
+        "cells belong to no region (physical surfaces not listed: b); add a region for them",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PART}[[region]]\nname = 'fabric'\nangle = 'log(x - 30)'",
+        2,
+        "region[0].angle: 'log(x - 30)' is not finite at some points (the centres of its cells)",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
         "[fabric.mesh]\nfile = '{upright}'\n[[boundary]]\nname = 'bottom'\nkind = 'clamp'",
         2,
         "upright.geo: the mesh is not in the x-y plane (it spans x 50 mm, y 0 mm, z 50 mm)",
@@ -328,7 +367,13 @@ def test_bad_input_one_line_naming_the_parameter_before_any_work(
     places["binary"].write_bytes(b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR")
     places["utf16"] = tmp_path / "utf16.toml"  # UTF-16 without its byte-order mark
     places["utf16"].write_bytes(SCENE.encode("utf-16-le"))
-    geo = (("tri", TRIANGLES), ("seam", SEAM), ("upright", UPRIGHT), ("crash", CRASH))
+    geo = (
+        ("tri", TRIANGLES),
+        ("seam", SEAM),
+        ("upright", UPRIGHT),
+        ("crash", CRASH),
+        ("two", TWO),
+    )
     for name, text in geo:
         places[name] = tmp_path / f"{name}.geo"
         places[name].write_text(text)
@@ -338,7 +383,7 @@ def test_bad_input_one_line_naming_the_parameter_before_any_work(
         if scene.startswith("name")
         else SCENE.replace("stitch = 5.5", f"stitch = 5.5\n{scene}")
     )
-    for name in ("tri", "seam", "upright", "crash", "plate"):
+    for name in ("tri", "seam", "upright", "crash", "two", "plate"):
         text = text.replace(f"{{{name}}}", str(places[name]))
     places["scene"].write_text(text)
     argv = [argument.format(**places) for argument in arguments.split()]
