@@ -260,10 +260,12 @@ def run_scene(  # noqa: PLR0913 (the scene and the keyword options of `knitmech 
         written = [SUMMARY_FILE, "summary.txt", "scene.toml"]
         header = f"# the scene as run (fidelity {plan.fidelity.name} filled in), knitmech "
         (folder / "scene.toml").write_text(f"{header}{__version__}\n" + plan.scene.to_toml())
+        figure = folder / "figures" / "force_strain.png"
         if macro or meso:
-            (folder / "figures").mkdir(exist_ok=True)
+            figure.parent.mkdir(exist_ok=True)
             title = f"{plan.scene.name} (fidelity {plan.fidelity.name})"
-            plot_comparison(meso, macro, folder / "figures" / "force_strain.png", title)
+            plot_comparison(meso, macro, figure, title)
+        if figure.is_file():
             written.append("figures/force_strain.png")
         timings = stage_timings(records)
         timings["report"] = time.perf_counter() - report_started

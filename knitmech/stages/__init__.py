@@ -67,7 +67,7 @@ FIELD_STRAINS = {"course": 0.10, "wale": 0.10}
 that the two maps compare (the paper's Figure 8 shows 10 % course-wise and 9 % wale-wise;
 `demos/demo_patch_tension.py` keeps those)."""
 
-STAGE_VERSION = 2
+STAGE_VERSION = 3
 """Part of every stage's cache key: raised whenever what a stage computes or writes changes
 without a new package version (the package version is part of every key already)."""
 

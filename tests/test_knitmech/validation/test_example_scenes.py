@@ -25,6 +25,7 @@ two-region plate with a hole under `mpirun -n 2` against one rank.
 """
 
 import json
+import re
 import tomllib
 from pathlib import Path
 
@@ -172,9 +173,24 @@ def check_results_folder(folder, part, constants, angle, top):
     (no knit), the course direction `angle`."""
     curves = json.loads((folder / "fabric" / "curves.json").read_text())
     assert curves == part["boundaries"]
-    for name in ("top", "bottom"):
+    for name, curve in curves.items():  # the same curves as CSV, units in the header
+        table = np.loadtxt(folder / "fabric" / f"boundary_{name}.csv", delimiter=",", skiprows=1)
+        header = (folder / "fabric" / f"boundary_{name}.csv").read_text().splitlines()[0]
+        assert header == "load factor (-),Fx (N),Fy (N),ux (mm),uy (mm)"
+        np.testing.assert_allclose(table[:, 0], part["load_factor"], rtol=1e-9)
+        np.testing.assert_allclose(table[:, 1:3], curve["force"], rtol=1e-9, atol=1e-15)
+        np.testing.assert_allclose(table[:, 3:], curve["displacement"], rtol=1e-9, atol=1e-15)
+    for name, probe in part["probes"].items():
+        table = np.loadtxt(folder / "fabric" / f"probe_{name}.csv", delimiter=",", skiprows=1)
+        np.testing.assert_allclose(table[:, -1], probe["shear_angle"], rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(table[:, 4], np.array(probe["cauchy"])[:, 0, 0], atol=1e-12)
+    for name in ("top", "bottom", "stress"):
         with Image.open(folder / "figures" / f"fabric_{name}.png") as image:
             assert min(image.size) > 100
+    # the patch's comparison figure, empty for a part without a uniaxial RVE case, is not made
+    assert not (folder / "figures" / "force_strain.png").exists()
+    table = (folder / "summary.txt").read_text()
+    assert "shear angle" in table and not re.search(r"\s-(\s|$)", table)  # no empty cell
     xdmf = (folder / "paraview" / "fabric.xdmf").read_text()
     assert all(f'Attribute Name="{name}"' in xdmf for name in FIELDS)
     with h5py.File(folder / "paraview" / "fabric.h5", "r") as h5:
