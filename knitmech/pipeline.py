@@ -10,8 +10,9 @@ runs when the scene gives a surface file. The scene is checked before anything i
 the geometry stage, the cheapest, also checks that a loop fits the knit.
 
 The results folder holds `summary.json`, `summary.txt` (the printed table), `scene.toml`
-(the scene as run, every setting filled in), `surface.h5`, `figures/*.png`, `paraview/*`
-and `meso/*.json` (docs/pipeline.md).
+(the scene as run, every setting filled in; a part's gmsh file copied to `mesh/` and named
+there, so that `knitmech run results/scene.toml` runs it again on its own), `surface.h5`,
+`figures/*.png`, `paraview/*` and `meso/*.json` (docs/pipeline.md).
 """
 
 import dataclasses
@@ -74,6 +75,7 @@ from rve_rod.rve.yarn import bending_model
 from rve_rod.surface import read_surface
 
 __all__ = [
+    "MESH_FOLDER",
     "SUMMARY_FILE",
     "PipelineResult",
     "check_plan",
@@ -83,6 +85,8 @@ __all__ = [
 logger = logging.getLogger(__name__)
 
 SUMMARY_FILE = "summary.json"
+MESH_FOLDER = "mesh"
+"""Where the results folder keeps a copy of the part's gmsh file."""
 
 
 class PipelineResult(NamedTuple):
@@ -258,8 +262,16 @@ def run_scene(  # noqa: PLR0913 (the scene and the keyword options of `knitmech 
             summary["knits"] = knit_summaries
             summary["part"] = fabric
         written = [SUMMARY_FILE, "summary.txt", "scene.toml"]
+        as_run = plan.scene
+        if part is not None and part.mesh.file is not None:
+            copy = _copy_mesh(Path(part.mesh.file), folder)
+            written.append(copy)
+            as_run = dataclasses.replace(
+                as_run,
+                part=dataclasses.replace(part, mesh=dataclasses.replace(part.mesh, file=copy)),
+            )
         header = f"# the scene as run (fidelity {plan.fidelity.name} filled in), knitmech "
-        (folder / "scene.toml").write_text(f"{header}{__version__}\n" + plan.scene.to_toml())
+        (folder / "scene.toml").write_text(f"{header}{__version__}\n" + as_run.to_toml())
         figure = folder / "figures" / "force_strain.png"
         if macro or meso:
             figure.parent.mkdir(exist_ok=True)
@@ -279,6 +291,16 @@ def run_scene(  # noqa: PLR0913 (the scene and the keyword options of `knitmech 
         (folder / "summary.txt").write_text(table + "\n")
         (folder / SUMMARY_FILE).write_text(json.dumps(summary, indent=1, allow_nan=False))
         return PipelineResult(plan, folder, summary, records, table)
+
+
+def _copy_mesh(path: Path, folder: Path) -> str:
+    """Copy the part's gmsh file into `folder`/mesh/ (the scene.toml there names the copy, so
+    that the results folder can be run again on its own); returns its relative path."""
+    target = folder / MESH_FOLDER / path.name
+    target.parent.mkdir(exist_ok=True)
+    if path.resolve() != target.resolve():
+        shutil.copyfile(path, target)
+    return f"{MESH_FOLDER}/{path.name}"
 
 
 def _clear_previous(folder: Path) -> None:

@@ -353,4 +353,12 @@ def test_the_slack_l_bracket_reaches_its_load_in_equilibrium(tmp_path, cache):
 
     finer, _ = run_example("l_bracket", tmp_path / "forty", cache, forty_steps)
     np.testing.assert_allclose(finer["boundaries"]["tip"]["displacement"][-1], tip, rtol=1e-6)
+    # the results folder holds the gmsh file and a scene naming it: it runs again on its own
+    assert (tmp_path / "ten" / "mesh" / "l_bracket.geo").read_text() == (
+        EXAMPLES / "l_bracket.geo"
+    ).read_text()
+    assert 'file = "mesh/l_bracket.geo"' in (tmp_path / "ten" / "scene.toml").read_text()
+    scene = load_scene(tmp_path / "ten" / "scene.toml")
+    again = run_scene(scene, output=tmp_path / "again", cache_dir=cache).summary["part"]
+    np.testing.assert_allclose(again["boundaries"]["tip"]["displacement"][-1], tip, rtol=1e-9)
     print(f"tip displacement {tip} mm, {len(factors) - 1} steps, {part['cutbacks']} cutbacks")
