@@ -39,6 +39,7 @@ __all__ = [
     "default_surface_path",
     "load_scene",
     "scene_from_dict",
+    "starter_scene_path",
 ]
 
 MESO_CASES = (
@@ -207,6 +208,11 @@ class Scene:
 def default_scene_path() -> Path:
     """Path of the built-in default scene (cotton 20s/2, stitch 5.5, 50 mm patch)."""
     return Path(str(files("knitmech").joinpath("data/default_scene.toml")))
+
+
+def starter_scene_path() -> Path:
+    """Path of the commented scene `knitmech init` writes (a strip tensile test)."""
+    return Path(str(files("knitmech").joinpath("data/starter_scene.toml")))
 
 
 def default_surface_path() -> Path:

@@ -1,7 +1,15 @@
 """`knitmech run` refuses bad scenes before computing anything: exit status 2, one line per
 problem naming its key, no results and no cache written."""
 
+import tomllib
+
+import pytest
+
 from knitmech.cli import main
+from knitmech.fidelity import fidelity_level
+from knitmech.pipeline import check_plan, run_scene
+from knitmech.scene import default_surface_path, load_scene, scene_from_dict, starter_scene_path
+from knitmech.stages import plan_run
 
 
 def run(tmp_path, text, capsys, *extra):
@@ -77,3 +85,33 @@ def test_usage_errors_exit_2_with_one_line(tmp_path, capsys):
         "knitmech run: error: jobs=0 is outside the valid range [1, 256]"
     ]
     assert nothing_written(tmp_path)
+
+
+def test_init_writes_a_commented_scene_that_plans_and_keeps_an_existing_file(tmp_path, capsys):
+    path = tmp_path / "scene.toml"
+    assert main(["init", str(path)]) == 0
+    assert (
+        capsys.readouterr().out == f"wrote {path}; edit it, then: knitmech run {path} -o results\n"
+    )
+    text = path.read_text()
+    assert text.count("#") > 30  # every section explained
+    scene = load_scene(path)
+    check_plan(plan_run(scene, fidelity_level(scene.fidelity)))
+    assert [b.kind for b in scene.part.boundaries] == ["clamp", "displacement"]
+    path.write_text("mine")
+    assert main(["init", str(path)]) == 2
+    assert "exists already; give another name or --force" in capsys.readouterr().err
+    assert path.read_text() == "mine"
+    assert main(["init", str(path), "--force"]) == 0 and path.read_text() == text
+
+
+@pytest.mark.slow
+def test_the_starter_scene_runs(tmp_path):
+    """`knitmech init`'s scene as written, on the shipped surface (no RVE run)."""
+    data = tomllib.loads(starter_scene_path().read_text())
+    data["surface"]["path"] = str(default_surface_path())
+    data["meso"]["cases"] = []
+    result = run_scene(scene_from_dict(data), output=tmp_path / "out", cache_dir=tmp_path)
+    part = result.summary["part"]
+    assert part["complete"] and part["boundaries"]["top"]["force"][-1][1] > 0.0
+    assert (tmp_path / "out" / "fabric" / "probe_centre.csv").is_file()
