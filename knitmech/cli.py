@@ -36,7 +36,7 @@ from rve_rod.help_format import HelpFormatter
 from rve_rod.homogenize.executors import add_executor_argument
 from rve_rod.homogenize.generate import GenerationError
 from rve_rod.limits import available_cores
-from rve_rod.log_setup import install_handler
+from rve_rod.log_setup import add_common_flags, install_handler
 from rve_rod.outputs import check_output_file, check_output_folder, ignore_broken_pipe
 
 __all__ = [
@@ -58,7 +58,6 @@ def build_parser() -> argparse.ArgumentParser:
         description="Knitted-fabric mechanics from yarn to fabric.",
         formatter_class=HelpFormatter,
     )
-    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     subparsers = parser.add_subparsers(
         dest="command",
         required=True,
@@ -72,7 +71,11 @@ def build_parser() -> argparse.ArgumentParser:
         "interrupted run resumes) and write a results folder (docs/pipeline.md).",
     )
     run.add_argument("scene", nargs="?", help="scene file (TOML; default: the built-in scene)")
-    run.add_argument("--fidelity", choices=tuple(LEVELS), help="override the scene's level")
+    run.add_argument(
+        "--fidelity",
+        choices=tuple(LEVELS),
+        help="the level of detail (default: the scene's fidelity key, else balanced)",
+    )
     run.add_argument("-o", "--output", default="results", help="results folder")
     run.add_argument(
         "--jobs",
@@ -90,9 +93,6 @@ def build_parser() -> argparse.ArgumentParser:
         help=f"allow macro.ranks above the cores ({available_cores()})",
     )
     run.add_argument("--json", action="store_true", help="print summary.json instead of a table")
-    verbosity = run.add_mutually_exclusive_group()
-    verbosity.add_argument("-q", "--quiet", action="store_true", help="warnings only")
-    verbosity.add_argument("-v", "--verbose", action="store_true", help="solver details too")
     run.set_defaults(run=run_command)
     _add_sweep(subparsers)
     init = subparsers.add_parser(
@@ -104,6 +104,7 @@ def build_parser() -> argparse.ArgumentParser:
     init.add_argument("scene", nargs="?", default="scene.toml", help="file to write")
     init.add_argument("--force", action="store_true", help="replace an existing file")
     init.set_defaults(run=init_command)
+    add_common_flags(parser, f"{PROGRAM} {__version__}")
     return parser
 
 
@@ -125,9 +126,6 @@ def _add_sweep(subparsers) -> None:
     )
     add_executor_argument(sweep)
     sweep.add_argument("--cache-dir", help=f"RVE-run cache root (default {default_cache_root()})")
-    verbosity = sweep.add_mutually_exclusive_group()
-    verbosity.add_argument("-q", "--quiet", action="store_true", help="warnings only")
-    verbosity.add_argument("-v", "--verbose", action="store_true", help="solver details too")
     sweep.set_defaults(run=sweep_command)
 
 

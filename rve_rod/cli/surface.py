@@ -21,7 +21,7 @@ from rve_rod.homogenize.executors import add_executor_argument
 from rve_rod.homogenize.fit import FitOptions, FitReport
 from rve_rod.homogenize.generate import GenerationError, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
-from rve_rod.limits import check_count
+from rve_rod.limits import available_cores, check_count
 from rve_rod.outputs import check_output_file, check_output_folder, figure_formats
 from rve_rod.rve.engine import fabric_settings, surface_engine
 from rve_rod.rve.yarn import bending_model
@@ -84,7 +84,10 @@ def register(subparsers) -> None:
     )
     add_executor_argument(parser)
     parser.add_argument(
-        "--jobs", type=int, default=1, help="local worker processes (default 1; not for mpi)"
+        "--jobs",
+        type=int,
+        default=available_cores(),
+        help=f"local worker processes (default: all cores, {available_cores()}; not for mpi)",
     )
     parser.add_argument(
         "--energy", action="store_true", help="write the energy fit (symmetric tangent)"
@@ -136,7 +139,7 @@ def run_surface(args: argparse.Namespace) -> int:
             cache=cache,
             executor=args.executor,
             jobs=args.jobs,
-            progress=sys.stderr,
+            progress=None if args.quiet else sys.stderr,
         )
     except GenerationError as error:
         print(f"rve-rod surface: stopped: {error}", file=sys.stderr)

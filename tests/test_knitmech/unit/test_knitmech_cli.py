@@ -5,6 +5,9 @@ import tomllib
 
 import pytest
 
+import fabric_dolfinx.cli
+import knitmech.cli
+import rve_rod.cli
 from knitmech.cli import main
 from knitmech.fidelity import fidelity_level
 from knitmech.pipeline import check_plan, run_scene
@@ -115,3 +118,27 @@ def test_the_starter_scene_runs(tmp_path):
     part = result.summary["part"]
     assert part["complete"] and part["boundaries"]["top"]["force"][-1][1] > 0.0
     assert (tmp_path / "out" / "fabric" / "probe_centre.csv").is_file()
+
+
+@pytest.mark.parametrize(
+    ("tool", "command"),
+    [
+        ("rve-rod", ["geometry", "--preset", "cotton-20s2", "--stitch", "5.5"]),
+        ("fabric-dolfinx", ["tension", "--svk", "1,2,0.3,1"]),
+        ("knitmech", ["run"]),
+    ],
+)
+def test_the_three_tools_take_the_same_flags_before_and_after_the_subcommand(tool, command):
+    """--version, -q and -v, before or after the subcommand (issue 31: the tools differed)."""
+    parser = {
+        "rve-rod": rve_rod.cli.build_parser,
+        "fabric-dolfinx": fabric_dolfinx.cli.build_parser,
+        "knitmech": knitmech.cli.build_parser,
+    }[tool]()
+    for before, after in (([], []), (["-v"], []), ([], ["-v"]), (["-q"], []), ([], ["-q"])):
+        args = parser.parse_args([*before, *command, *after])
+        assert (args.quiet, args.verbose) == ("-q" in before + after, int("-v" in before + after))
+    for place in (["--version", *command], [*command, "--version"]):
+        with pytest.raises(SystemExit) as stop:
+            parser.parse_args(place)
+        assert stop.value.code == 0
