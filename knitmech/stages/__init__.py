@@ -159,8 +159,8 @@ def _meso_stage(plan: RunPlan, name: str, max_strain: float, steps: int) -> Stag
     def compute(folder: Path) -> dict:
         from rve_rod.rve.plot import plot_curve  # noqa: PLC0415 (matplotlib on demand)
 
-        def progress(step):
-            logger.info(
+        def progress(step):  # a detail (-v): the stage's own line says when it is done
+            logger.debug(
                 "meso %s: strain %.4g %%, %.4g gf/cm (%d Newton iterations)",
                 name,
                 100 * step.strain,

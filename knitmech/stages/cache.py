@@ -128,7 +128,7 @@ class StageCache:
                 target.write_bytes(arrays[f"file_{index}"].tobytes())
             status = CACHED
         else:
-            logger.info("%s: computing", _label(stage))
+            logger.debug("%s: computing", _label(stage))
             with tempfile.TemporaryDirectory(dir=output, prefix=_WORK_PREFIX) as temporary:
                 work = Path(temporary)
                 summary = to_jsonable(stage.compute(work))
