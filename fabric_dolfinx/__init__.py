@@ -4,7 +4,7 @@ Depends on `rve_rod` only through its numpy-only interface modules (`FABRIC_USES
 in tests/project/unit/test_imports.py checks the list): `rve_rod.surface` (the surface file reader),
 `rve_rod.stepping` (the load-step controller both scales share), `rve_rod.errors`,
 `rve_rod.limits`, `rve_rod.units`, and for the command line `rve_rod.help_format`,
-`rve_rod.log_setup` and `rve_rod.outputs`.
+`rve_rod.log_setup`, `rve_rod.outputs` and the package's version (`rve_rod.__version__`).
 
 DOLFINx is a system package that pip cannot install (pyproject.toml does not declare it): its
 presence and version are checked here, without importing it (the pipeline plans with
