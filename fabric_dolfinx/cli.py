@@ -25,9 +25,9 @@ from fabric_dolfinx.io.plot import plot_force_strain
 from fabric_dolfinx.io.rve_curve import read_rve_curve
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
 from fabric_dolfinx.part.tension import TensionSetup
-from fabric_dolfinx.solve import SolverOptions
-from fabric_dolfinx.spec.tension import TensionTest
-from rve_rod import limits
+from fabric_dolfinx.solve import LINEAR_SOLVERS, SolverOptions
+from fabric_dolfinx.spec.tension import DIRECTIONS, TensionTest
+from rve_rod import __version__, limits
 from rve_rod.errors import (
     CommandLineParser,
     ConvergenceError,
@@ -36,8 +36,8 @@ from rve_rod.errors import (
     terminate_as_interrupt,
 )
 from rve_rod.help_format import HelpFormatter
-from rve_rod.log_setup import install_handler
-from rve_rod.outputs import check_output_file, ignore_broken_pipe
+from rve_rod.log_setup import add_common_flags, install_handler
+from rve_rod.outputs import check_output_file, figure_formats, ignore_broken_pipe
 from rve_rod.surface import read_surface
 
 __all__ = [
@@ -80,7 +80,6 @@ def build_parser() -> argparse.ArgumentParser:
         description="Fabric-scale membrane simulations with DOLFINx.",
         formatter_class=HelpFormatter,
     )
-    parser.add_argument("-v", "--verbose", action="count", default=0, help="more log output")
     subparsers = parser.add_subparsers(
         dest="command",
         required=True,
@@ -98,7 +97,9 @@ def build_parser() -> argparse.ArgumentParser:
     material.add_argument(
         "--svk", metavar="E1,E2,NU12,G12", help="orthotropic Saint Venant-Kirchhoff instead"
     )
-    tension.add_argument("--direction", default="course", help="course (x) or wale (y)")
+    tension.add_argument(
+        "--direction", choices=tuple(DIRECTIONS), default="course", help="course (x) or wale (y)"
+    )
     tension.add_argument("--size", type=float, default=50.0, help="side of the patch (mm)")
     low, high = limits.ELEMENTS
     tension.add_argument(
@@ -110,22 +111,26 @@ def build_parser() -> argparse.ArgumentParser:
     tension.add_argument(
         "--angle", type=float, default=0.0, help="course direction against x (degrees)"
     )
-    tension.add_argument("--degree", type=int, default=1, help="element degree (1 or 2)")
-    tension.add_argument("--linear-solver", default="lu", help="lu (MUMPS), gmres or cg")
+    tension.add_argument("--degree", type=int, choices=(1, 2), default=1, help="element degree")
+    tension.add_argument(
+        "--linear-solver", choices=LINEAR_SOLVERS, default="lu", help="lu (MUMPS), gmres or cg"
+    )
     tension.add_argument("--json", action="store_true", help="print one JSON object")
     tension.add_argument("--xdmf", help="write displacement, strain, stress per step")
     tension.add_argument("--plot", help="write the force-strain curve (PNG)")
     tension.add_argument("--rve-curve", help="JSON with strain, force_gf_per_cm to plot beside")
     tension.set_defaults(run=run_tension_command)
+    add_common_flags(parser, f"{PROGRAM} {__version__}")
     return parser
 
 
 def run_tension_command(args: argparse.Namespace) -> int:
     """The `tension` subcommand; returns the exit status."""
     comm = MPI.COMM_WORLD
-    for name, path in (("--xdmf", args.xdmf), ("--plot", args.plot)):
-        if path is not None:
-            check_output_file(name, path)
+    if args.xdmf is not None:
+        check_output_file("--xdmf", args.xdmf)
+    if args.plot is not None:
+        check_output_file("--plot", args.plot, figure_formats())
     test = TensionTest(
         direction=args.direction,
         size=args.size,
@@ -204,7 +209,8 @@ def main(argv: list[str] | None = None) -> int:
         command = args.command
         # The level sits on the handler: the JIT's distutils build lowers the root logger's.
         handler = logging.StreamHandler()
-        handler.setLevel(logging.WARNING - 10 * min(args.verbose, 2))
+        quiet = logging.ERROR if args.quiet else logging.WARNING
+        handler.setLevel(quiet - 10 * min(args.verbose, 2))
         handler.setFormatter(
             logging.Formatter(f"[rank {rank}] %(levelname)s %(name)s: %(message)s")
         )

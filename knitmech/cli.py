@@ -3,6 +3,7 @@
     knitmech run [SCENE.toml] [--fidelity fast|balanced|accurate] [-o results] [--jobs N]
                  [--executor local|mpi] [--cache-dir DIR] [--json] [-q | -v]
     knitmech sweep SWEEP.toml [-o sweep] [--jobs N] [--executor local|mpi] [--cache-dir DIR]
+    knitmech init [SCENE.toml] [--force]      # a commented scene to start from
 
 Without a scene file it runs the built-in default scene (cotton 20s/2, stitch 5.5, the
 paper's 50 mm patch course- and wale-wise). Progress goes to stderr; the summary table (or,
@@ -21,21 +22,27 @@ import sys
 from knitmech.fidelity import LEVELS
 from knitmech.jobs.launch import StageError
 from knitmech.pipeline import run_scene
-from knitmech.scene import load_scene
+from knitmech.scene import load_scene, starter_scene_path
 from knitmech.sweep import FAILED_EXIT_STATUS, SUMMARY_FILE, load_sweep, run_sweep
 from rve_rod import __version__
 from rve_rod.cache import default_cache_root
-from rve_rod.errors import CommandLineParser, cli_exit_status, terminate_as_interrupt
+from rve_rod.errors import (
+    CommandLineParser,
+    InputError,
+    cli_exit_status,
+    terminate_as_interrupt,
+)
 from rve_rod.help_format import HelpFormatter
 from rve_rod.homogenize.executors import add_executor_argument
 from rve_rod.homogenize.generate import GenerationError
 from rve_rod.limits import available_cores
-from rve_rod.log_setup import install_handler
-from rve_rod.outputs import check_output_folder, ignore_broken_pipe
+from rve_rod.log_setup import add_common_flags, install_handler
+from rve_rod.outputs import check_output_file, check_output_folder, ignore_broken_pipe
 
 __all__ = [
     "PROGRAM",
     "build_parser",
+    "init_command",
     "main",
     "run_command",
     "sweep_command",
@@ -51,7 +58,6 @@ def build_parser() -> argparse.ArgumentParser:
         description="Knitted-fabric mechanics from yarn to fabric.",
         formatter_class=HelpFormatter,
     )
-    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     subparsers = parser.add_subparsers(
         dest="command",
         required=True,
@@ -65,7 +71,11 @@ def build_parser() -> argparse.ArgumentParser:
         "interrupted run resumes) and write a results folder (docs/pipeline.md).",
     )
     run.add_argument("scene", nargs="?", help="scene file (TOML; default: the built-in scene)")
-    run.add_argument("--fidelity", choices=tuple(LEVELS), help="override the scene's level")
+    run.add_argument(
+        "--fidelity",
+        choices=tuple(LEVELS),
+        help="the level of detail (default: the scene's fidelity key, else balanced)",
+    )
     run.add_argument("-o", "--output", default="results", help="results folder")
     run.add_argument(
         "--jobs",
@@ -83,11 +93,18 @@ def build_parser() -> argparse.ArgumentParser:
         help=f"allow macro.ranks above the cores ({available_cores()})",
     )
     run.add_argument("--json", action="store_true", help="print summary.json instead of a table")
-    verbosity = run.add_mutually_exclusive_group()
-    verbosity.add_argument("-q", "--quiet", action="store_true", help="warnings only")
-    verbosity.add_argument("-v", "--verbose", action="store_true", help="solver details too")
     run.set_defaults(run=run_command)
     _add_sweep(subparsers)
+    init = subparsers.add_parser(
+        "init",
+        help="write a commented scene to start from",
+        description="Write a commented scene file (a strip of single jersey clamped at its "
+        "bottom and pulled at its top; every key explained) to edit and run.",
+    )
+    init.add_argument("scene", nargs="?", default="scene.toml", help="file to write")
+    init.add_argument("--force", action="store_true", help="replace an existing file")
+    init.set_defaults(run=init_command)
+    add_common_flags(parser, f"{PROGRAM} {__version__}")
     return parser
 
 
@@ -109,9 +126,6 @@ def _add_sweep(subparsers) -> None:
     )
     add_executor_argument(sweep)
     sweep.add_argument("--cache-dir", help=f"RVE-run cache root (default {default_cache_root()})")
-    verbosity = sweep.add_mutually_exclusive_group()
-    verbosity.add_argument("-q", "--quiet", action="store_true", help="warnings only")
-    verbosity.add_argument("-v", "--verbose", action="store_true", help="solver details too")
     sweep.set_defaults(run=sweep_command)
 
 
@@ -180,6 +194,17 @@ def sweep_command(args: argparse.Namespace) -> int:
     print(result.table)
     print(f"results in {result.folder}/ ({SUMMARY_FILE}, summary.txt, one .h5 per knit)")
     return FAILED_EXIT_STATUS if result.failed else 0
+
+
+def init_command(args: argparse.Namespace) -> int:
+    """The `init` subcommand: the starter scene into `args.scene` (not over a file unless
+    --force); returns the exit status."""
+    path = check_output_file("scene", args.scene)
+    if path.exists() and not args.force:
+        raise InputError(f"scene {path}: exists already; give another name or --force")
+    path.write_text(starter_scene_path().read_text(encoding="utf-8"), encoding="utf-8")
+    print(f"wrote {path}; edit it, then: {PROGRAM} run {path} -o results")
+    return 0
 
 
 def main(argv: list[str] | None = None) -> int:

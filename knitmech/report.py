@@ -138,24 +138,31 @@ def summary_table(summary: dict) -> str:
     lines = [f"{summary['scene']['name']} (fidelity {summary['fidelity']['name']})"]
     forces = summary["forces"]
     columns = ("meso_gf_per_cm", "surface_gf_per_cm", "macro_gf_per_cm")
+    patch = any(v is not None for e in forces.values() for v in e["macro_gf_per_cm"])
     for direction, entry in forces.items():
-        lines += [
-            "",
-            f"{'strain':>8}{'meso':>9}{'surface':>9}{'macro':>9}{'diff':>9}{'centre':>9}"
-            f"{'diff':>9}   {direction}-wise force (gf/cm)",
-        ]
+        header = f"{'strain':>8}{'meso':>9}"
+        if patch:  # a part scene has no patch: these columns would be all "-"
+            header += f"{'surface':>9}{'macro':>9}{'diff':>9}{'centre':>9}{'diff':>9}"
+        lines += ["", f"{header}   {direction}-wise force (gf/cm)"]
         for row, target in enumerate(REPORT_STRAINS):
             cells = f"{100 * target:>6.0f} %"
-            cells += "".join(_number(entry[column][row], ".2f", 9) for column in columns)
-            cells += _percent(entry["relative_difference"][row])
-            cells += _number(entry["centre_gf_per_cm"][row], ".2f", 9)
-            cells += _percent(entry["centre_relative_difference"][row])
+            shown = columns if patch else columns[:1]
+            cells += "".join(_number(entry[column][row], ".2f", 9) for column in shown)
+            if patch:
+                cells += _percent(entry["relative_difference"][row])
+                cells += _number(entry["centre_gf_per_cm"][row], ".2f", 9)
+                cells += _percent(entry["centre_relative_difference"][row])
             lines.append(cells)
     if forces:
         lines.append(
-            "  meso: RVE uniaxial; surface: the fitted material alone in uniaxial tension; "
-            "macro: clamped patch at its nominal strain; centre: the same where the gauge at "
-            "its centre reads the strain; diff: against meso"
+            "  meso: RVE uniaxial"
+            + (
+                "; surface: the fitted material alone in uniaxial tension; macro: clamped "
+                "patch at its nominal strain; centre: the same where the gauge at its centre "
+                "reads the strain; diff: against meso"
+                if patch
+                else ""
+            )
         )
     ratios = summary["poisson_ratios"]
     scales = ("meso", "macro", "centre")
@@ -196,10 +203,13 @@ def plot_comparison(
 ) -> None:
     """Force-strain of the patch (markers: against its nominal strain, clamp to clamp, and
     against the strain its centre gauge reads) and of the RVE (dashed), as the paper's Fig. 8a,
-    titled `title` (the scene's name and level)."""
+    titled `title` (the scene's name and level); no file when there is neither a patch nor a
+    uniaxial RVE case."""
     from fabric_dolfinx.io.plot import plot_force_strain  # noqa: PLC0415 (matplotlib on demand)
 
     curves = {}
+    if not macro and not any(case in meso for case in DIRECTION_CASES.values()):
+        return  # nothing to draw (a part scene with no uniaxial RVE case)
     for d, record in macro.items():
         curves[f"patch, {d}-wise, clamp to clamp"] = (record.strain, record.force_gf_per_cm)
         curves[f"patch, {d}-wise, centre gauge"] = (record.gauge_strain, record.force_gf_per_cm)

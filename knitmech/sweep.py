@@ -28,17 +28,16 @@ import json
 import logging
 import math
 import time
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import NamedTuple, TextIO
 
 from knitmech.fidelity import LEVELS, fidelity_level
 from knitmech.scene import Scene, SceneError, scene_from_dict
-from knitmech.scene.keys import unknown_key
+from knitmech.scene.keys import read_toml, unknown_key
 from knitmech.stages import RunPlan, plan_run
+from knitmech.stages.cache import results_folder_lock
 from rve_rod.cache import ResultCache, default_cache_root
-from rve_rod.errors import InputError
 from rve_rod.homogenize.executors import ExecutorChoice
 from rve_rod.homogenize.generate import (
     GenerationError,
@@ -163,13 +162,7 @@ class SweepResult(NamedTuple):
 def load_sweep(path: str | Path) -> Sweep:
     """Read and check a sweep file (see the module docstring)."""
     path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as error:
-        raise InputError(f"sweep file {path}: cannot be read ({error.strerror})") from None
-    except tomllib.TOMLDecodeError as error:
-        raise InputError(f"sweep file {path}: not valid TOML ({error})") from None
-    return sweep_from_dict(data, source=str(path))
+    return sweep_from_dict(read_toml(path, "sweep file"), source=str(path))
 
 
 def sweep_from_dict(data: dict, source: str = "<dict>") -> Sweep:
@@ -269,30 +262,35 @@ def run_sweep(  # noqa: PLR0913 (the sweep and the keyword options of `knitmech 
     level = fidelity_level(sweep.fidelity)
     plans = [plan_run(knit.scene, level) for knit in sweep.knits]
     engines = [engine(plan) for plan in plans]
-    cache = ResultCache(Path(cache_dir or default_cache_root()) / "rve-runs")
-    plans = _follow_fabrics(plans, engines, cache, choice, progress)
-    tasks, spans = [], []
-    for plan, knit_engine in zip(plans, engines, strict=True):
-        first = len(tasks)
-        tasks += [RunTask(knit_engine, RveCase(plan.fabric, p)) for p in plan.sampling.load_paths()]
-        spans.append(slice(first, len(tasks)))
     folder = Path(output)
-    folder.mkdir(parents=True, exist_ok=True)
-    bar = None
-    if progress:
-        bar = Progress(progress, len(tasks), cached_count(tasks, cache), label="sweep RVE runs")
-        bar.draw()
-    batch = run_tasks(tasks, cache=cache, executor=choice, progress=bar)
-    knits = [
-        _finish_knit(knit, plan, knit_engine, batch, span, folder=folder)
-        for knit, plan, knit_engine, span in zip(sweep.knits, plans, engines, spans, strict=True)
-    ]
-    wall = time.monotonic() - started
-    summary = _summary(sweep, knits, batch, described, wall)
-    table = summary_table(summary)
-    (folder / "summary.txt").write_text(table + "\n")
-    (folder / SUMMARY_FILE).write_text(json.dumps(summary, indent=1, allow_nan=False))
-    return SweepResult(sweep, folder, tuple(knits), batch, described, wall, table)
+    folder.parent.mkdir(parents=True, exist_ok=True)
+    with results_folder_lock(folder, "output"):
+        cache = ResultCache(Path(cache_dir or default_cache_root()) / "rve-runs")
+        plans = _follow_fabrics(plans, engines, cache, choice, progress)
+        tasks, spans = [], []
+        for plan, knit_engine in zip(plans, engines, strict=True):
+            first = len(tasks)
+            tasks += [
+                RunTask(knit_engine, RveCase(plan.fabric, p)) for p in plan.sampling.load_paths()
+            ]
+            spans.append(slice(first, len(tasks)))
+        bar = None
+        if progress:
+            bar = Progress(progress, len(tasks), cached_count(tasks, cache), label="sweep RVE runs")
+            bar.draw()
+        batch = run_tasks(tasks, cache=cache, executor=choice, progress=bar)
+        knits = [
+            _finish_knit(knit, plan, knit_engine, batch, span, folder=folder)
+            for knit, plan, knit_engine, span in zip(
+                sweep.knits, plans, engines, spans, strict=True
+            )
+        ]
+        wall = time.monotonic() - started
+        summary = _summary(sweep, knits, batch, described, wall)
+        table = summary_table(summary)
+        (folder / "summary.txt").write_text(table + "\n")
+        (folder / SUMMARY_FILE).write_text(json.dumps(summary, indent=1, allow_nan=False))
+        return SweepResult(sweep, folder, tuple(knits), batch, described, wall, table)
 
 
 def _follow_fabrics(plans, engines, cache, choice, progress) -> list[RunPlan]:

@@ -22,7 +22,9 @@ from rve_rod.errors import InputError
 __all__ = [
     "check_output_file",
     "check_output_folder",
+    "figure_formats",
     "ignore_broken_pipe",
+    "image_formats",
 ]
 
 
@@ -36,16 +38,42 @@ def _check_parent(name: str, path: Path) -> None:
         raise InputError(f"{name} {path}: folder {parent} is not writable")
 
 
-def check_output_file(name: str, path: str | os.PathLike) -> Path:
-    """`path` as a Path, or InputError unless a file can be written there (see the module).
+def figure_formats() -> tuple[str, ...]:
+    """The file suffixes matplotlib writes figures in (png, pdf, svg, ...)."""
+    from matplotlib.backend_bases import FigureCanvasBase  # noqa: PLC0415 (on demand)
+
+    return tuple(sorted(FigureCanvasBase.get_supported_filetypes()))
+
+
+def image_formats() -> tuple[str, ...]:
+    """The file suffixes Pillow writes images in (png, jpg, tif, ...)."""
+    from PIL import Image  # noqa: PLC0415 (on demand)
+
+    Image.init()
+    extensions = Image.registered_extensions().items()
+    return tuple(sorted(e[1:] for e, kind in extensions if kind in Image.SAVE))
+
+
+def check_output_file(
+    name: str, path: str | os.PathLike, formats: tuple[str, ...] | None = None
+) -> Path:
+    """`path` as a Path, or InputError unless a file can be written there (see the module)
+    and, when `formats` are given (`figure_formats()`, `image_formats()`), its suffix is one
+    of them (a figure named x.foo used to fail after the computation, its result lost).
 
     Args:
         name: the option or key that gave the path (e.g. "--output", "macro.xdmf").
         path: the file to write.
+        formats: the suffixes (without the dot, lower case) the writer knows, or None.
     """
     path = Path(path)
     if path.is_dir():
         raise InputError(f"{name} {path}: is a folder; give a file name")
+    if formats is not None and path.suffix.lower()[1:] not in formats:
+        raise InputError(
+            f"{name} {path}: {path.suffix or 'no suffix'} is not a format it can be written "
+            f"in (valid: {', '.join(formats)})"
+        )
     _check_parent(name, path)
     if path.exists() and not os.access(path, os.W_OK):
         raise InputError(f"{name} {path}: the file is not writable")

@@ -4,6 +4,7 @@
 writes the file); `plot_force_strain` draws what it is given (call it on one rank).
 """
 
+import textwrap
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -50,7 +51,7 @@ def plot_force_strain(
     axes.grid(alpha=0.3)
     axes.legend(frameon=False)
     if title:
-        axes.set_title(title, fontsize=9)
+        axes.set_title(textwrap.fill(title, 60), fontsize=9)  # a long title is wrapped, not cut
     figure.tight_layout()
     figure.savefig(path)
     plt.close(figure)
@@ -78,12 +79,18 @@ def plot_cell_field(
 
     Args:
         fields: up-to-date PartFields of a plane part (call `update()` first).
-        field: "cauchy" (N/mm) or "strain" (-).
-        component: tensor indices, e.g. (0, 0) for sigma_xx.
+        field: "cauchy" (N/mm), "strain" (-), or "principal": the largest principal Cauchy
+            stress sigma_1 (N/mm).
+        component: tensor indices, e.g. (0, 0) for sigma_xx (not for "principal").
     """
     comm = fields.strain.function_space.mesh.comm
     corners = comm.gather(_deformed_cells(fields), root=0)
-    values = comm.gather(fields.component(field, *component), root=0)
+    if field == "principal":  # sigma_1 of the 2 x 2 Cauchy stress
+        a, b, d = (fields.component("cauchy", *ij) for ij in ((0, 0), (0, 1), (1, 1)))
+        local = 0.5 * (a + d) + np.sqrt(0.25 * (a - d) ** 2 + b**2)
+    else:
+        local = fields.component(field, *component)
+    values = comm.gather(local, root=0)
     if comm.rank != 0:
         return
     corners, values = np.concatenate(corners), np.concatenate(values)
@@ -94,12 +101,15 @@ def plot_cell_field(
     axes.set_aspect("equal")
     axes.set_xlabel("x (mm)")
     axes.set_ylabel("y (mm)")
-    unit = "N/mm" if field == "cauchy" else "-"
-    symbol = "sigma" if field == "cauchy" else "E"
-    label = f"{symbol}_{'xy'[component[0]]}{'xy'[component[1]]} ({unit})"
+    if field == "principal":
+        label = "largest principal stress sigma_1 (N/mm)"
+    else:
+        unit = "N/mm" if field == "cauchy" else "-"
+        symbol = "sigma" if field == "cauchy" else "E"
+        label = f"{symbol}_{'xy'[component[0]]}{'xy'[component[1]]} ({unit})"
     figure.colorbar(cells, ax=axes, label=label)
     if title:
-        axes.set_title(title)
+        axes.set_title(textwrap.fill(title, 50), fontsize=9)
     figure.tight_layout()
     figure.savefig(path)
     plt.close(figure)

@@ -18,7 +18,10 @@ import gmsh
 import numpy as np
 from mpi4py import MPI
 
-from fabric_dolfinx.spec.part import physical_groups
+import fabric_dolfinx.jit  # noqa: F401 (FFCx's compilation safe to interrupt, and quiet)
+from fabric_dolfinx.spec.mesh_checks import check_geo_parameters, check_gmsh_mesh
+from fabric_dolfinx.spec.part import mesh_gmsh_file, physical_groups
+from fabric_dolfinx.spec.shapes import MESH_DIRECTORY
 from rve_rod.errors import InputError, check_integer
 
 __all__ = [
@@ -27,9 +30,6 @@ __all__ = [
     "mesh_gmsh_model",
     "read_geo",
 ]
-
-MESH_DIRECTORY = Path(__file__).resolve().parents[2] / "meshes"
-"""The repository's folder of gmsh geometry files."""
 
 
 class TaggedMesh(NamedTuple):
@@ -86,10 +86,12 @@ def read_geo(
     if path.suffix not in (".geo", ".msh"):
         raise InputError(f"gmsh file {path}: the name must end in .geo or .msh")
 
+    problems = check_geo_parameters(path, dict(parameters or {}))
+    if problems:
+        raise InputError(f"{path.name}: parameters " + "; ".join(problems))
+
     def build() -> None:
-        gmsh.open(str(path))
-        if path.suffix == ".geo":
-            gmsh.model.mesh.generate(2)
+        mesh_gmsh_file(path, refinements)
 
     return mesh_gmsh_model(build, comm, parameters, refinements, source=str(path), gdim=gdim)
 
@@ -109,7 +111,8 @@ def mesh_gmsh_model(
 
     Raises InputError (on every rank) when the mesh has cells other than 4-node
     quadrilaterals, no physical surface, or a curve (surface) in two physical curves
-    (surfaces).
+    (surfaces), more cells than the budget, or fails `fabric_dolfinx.spec.mesh_checks`
+    (not conforming, in pieces, degenerate cells, a plane part not in the x-y plane).
     """
     check_integer("refinements", refinements, 0, 6)
     groups = None
@@ -123,6 +126,7 @@ def mesh_gmsh_model(
             gmsh.option.setNumber("General.Terminal", 0)
             try:
                 build()
+                check_gmsh_mesh(source, refinements, plane=gdim == 2)
                 for _ in range(refinements):
                     gmsh.model.mesh.refine()
                 groups = physical_groups(source)

@@ -60,6 +60,12 @@ class Region:
             raise InputError(f"region {self.name!r} needs exactly one of material and family")
         if self.family is not None and self.stitch is None:
             raise InputError(f"region {self.name!r}: a graded region needs its stitch value")
+        if isinstance(self.angle, FieldExpression):
+            self.angle.as_value("a course direction in degrees")
+        if isinstance(self.stitch, FieldExpression):
+            self.stitch.as_value("a stitch value in mm")
+        if self.where is not None:
+            self.where.as_condition()
 
 
 class RegionCells(NamedTuple):

@@ -97,6 +97,33 @@ class FieldExpression:
             if isinstance(node, ast.Constant) and not isinstance(node.value, int | float):
                 raise InputError(f"{self.key}: {self.text!r} holds a non-number {node.value!r}")
 
+    @property
+    def is_condition(self) -> bool:
+        """Whether the expression is a condition (a comparison, `and`, `or`): true or false
+        at each point, 1 or 0 as a value."""
+        body = ast.parse(self.text, mode="eval").body
+        return isinstance(body, ast.Compare | ast.BoolOp)
+
+    def as_value(self, what: str) -> "FieldExpression":
+        """Itself, or InputError when it is a condition where `what` (e.g. "a course
+        direction in degrees") is wanted (`"x > 25"` gave angles of 0 and 1 degree)."""
+        if self.is_condition:
+            raise InputError(
+                f"{self.key}: {self.text!r} is a condition (true or false), not {what}; "
+                "choose between values with where(condition, value, other value)"
+            )
+        return self
+
+    def as_condition(self) -> "FieldExpression":
+        """Itself, or InputError when it is a value, not a condition (`"x + 5"` selected
+        every cell where it is not 0)."""
+        if not self.is_condition:
+            raise InputError(
+                f"{self.key}: {self.text!r} is a value, not a condition; write a comparison "
+                "such as 'x > 25' or 'abs(y - 100) < 20 and x < 50'"
+            )
+        return self
+
     def __call__(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         """Values (float array, the shape of x) at the points (x, y) in mm."""
         x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)

@@ -5,12 +5,13 @@ meshes it); `BoundaryCondition`: what holds or loads one named boundary
 (`fabric_dolfinx.part.boundary` applies it).
 """
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import NamedTuple
 
 import numpy as np
 
+from fabric_dolfinx.spec.mesh_checks import check_cells, estimated_geo_cells
 from rve_rod.errors import InputError, check_integer, check_positive
 
 __all__ = [
@@ -21,10 +22,10 @@ __all__ = [
     "SHAPES",
     "SHAPE_DIMENSIONS",
     "BoundaryCondition",
-    "GmshContents",
     "MeshSpec",
-    "gmsh_contents",
+    "mesh_gmsh_file",
     "physical_groups",
+    "shape_cells",
     "shape_points",
     "shape_size",
 ]
@@ -104,6 +105,28 @@ def shape_size(spec: MeshSpec) -> float:
     return spec.dimension("width") if spec.shape == "cruciform" else 50.0
 
 
+def shape_cells(spec: MeshSpec, element_size: float | None = None) -> float:
+    """At least how many cells a built-in shape's mesh has before refinement: its area over
+    the square of its element size (`element_size`, else the spec's, else shape_size / 10);
+    the structured shapes' edges are at most that size, the disc's O-grid and the plate's
+    recombined cells smaller (up to twice as many cells)."""
+    size = element_size or spec.element_size or shape_size(spec) / 10.0
+    dimension = spec.dimension
+    areas = {
+        "rectangle": lambda: dimension("width") * dimension("height"),
+        "patch": lambda: 2500.0,
+        "cruciform": lambda: (
+            dimension("width") * (dimension("width") + 4 * dimension("arm_length"))
+        ),
+        "plate_with_hole": lambda: (
+            dimension("width") * dimension("height") - math.pi * dimension("radius") ** 2
+        ),
+        "disc": lambda: math.pi * dimension("radius") ** 2,
+        "tube": lambda: 2 * math.pi * dimension("radius") * dimension("length"),
+    }
+    return areas[spec.shape]() / size**2
+
+
 BOUNDARY_KINDS = ("clamp", "displacement", "roller", "traction", "free")
 COMPONENTS = {"x": 0, "y": 1}
 """The components a scene's roller may hold (a plane part's)."""
@@ -152,53 +175,30 @@ class BoundaryCondition:
         return self.kind in ("clamp", "displacement", "roller")
 
 
-class GmshContents(NamedTuple):
-    """What a gmsh file defines, read before anything runs.
+def mesh_gmsh_file(path, refinements: int = 0) -> None:
+    """Open a `.geo` or `.msh` file in the initialized gmsh (its parameters set) and leave
+    its 2D mesh in the current model: a `.geo` file is meshed after its estimated size
+    passed the budget with `refinements` (`fabric_dolfinx.spec.mesh_checks`). InputError when
+    gmsh cannot read or mesh it."""
+    import gmsh  # noqa: PLC0415 (gmsh only for meshes)
 
-    Attributes:
-        curves: physical curve names (the boundaries).
-        surfaces: physical surface names (the regions).
-        centres: physical surface name -> (n, 2) centres (mm) of its elements (after the
-            refinements), where a graded stitch is checked and its members planned.
-    """
-
-    curves: list[str]
-    surfaces: list[str]
-    centres: dict[str, np.ndarray]
-
-
-def gmsh_contents(path, parameters=None, refinements: int = 0) -> GmshContents:
-    """The physical groups of a gmsh `.geo` or `.msh` file and their elements' centres, with
-    the checks of `physical_groups` (a `.geo` file is meshed in 2D, as `read_geo` does);
-    InputError when gmsh cannot read the file or a check fails."""
-    import gmsh  # noqa: PLC0415 (gmsh only for scenes with a mesh file)
-
-    arguments = ["fabric_dolfinx"]
-    for name, value in (parameters or {}).items():
-        arguments += ["-setnumber", name, repr(float(value))]
-    gmsh.initialize(arguments)
+    name = Path(path).name
     try:
-        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.open(str(path))
+    except Exception as error:  # gmsh raises plain Exceptions
+        raise InputError(f"gmsh cannot read {path}: {error}") from None
+    if str(path).endswith(".geo"):
+        size_min = gmsh.option.getNumber("Mesh.MeshSizeMin")  # the estimate raises it
         try:
-            gmsh.open(str(path))
-            if str(path).endswith(".geo"):
-                gmsh.model.mesh.generate(2)
-            for _ in range(refinements):
-                gmsh.model.mesh.refine()
+            estimate = estimated_geo_cells()
+            check_cells(f"{name} (estimated from its boundary, at least)", estimate, refinements)
+            gmsh.model.mesh.generate(2)
+        except InputError:
+            raise
         except Exception as error:  # gmsh raises plain Exceptions
-            raise InputError(f"gmsh cannot read {path}: {error}") from None
-        curves, surfaces = physical_groups(Path(path).name)
-        centres = {}
-        for name, tag in surfaces.items():
-            points = [np.zeros((0, 2))]
-            for entity in gmsh.model.getEntitiesForPhysicalGroup(2, tag):
-                for kind in gmsh.model.mesh.getElementTypes(2, entity):
-                    centre = gmsh.model.mesh.getBarycenters(kind, entity, False, True)
-                    points.append(np.reshape(centre, (-1, 3))[:, :2])
-            centres[name] = np.concatenate(points)
-    finally:
-        gmsh.finalize()
-    return GmshContents(list(curves), list(surfaces), centres)
+            raise InputError(f"gmsh cannot mesh {path}: {error}") from None
+        finally:  # gmsh keeps its options from one initialization to the next
+            gmsh.option.setNumber("Mesh.MeshSizeMin", size_min)
 
 
 def physical_groups(source: str) -> tuple[dict[str, int], dict[str, int]]:

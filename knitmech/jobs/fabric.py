@@ -6,9 +6,11 @@ an orthotropic SVK law), follows the load path (`fabric_dolfinx.part.problem`) a
 - `paraview/fabric.xdmf` (+ `.h5`): displacement, Green-Lagrange strain, Cauchy stress,
   principal stresses and direction, region number, stitch value, course direction per cell;
 - `fabric/curves.json`: per boundary its kind, length and force (N) and mean displacement
-  (mm) per step;
+  (mm) per step; the same as CSV, one file per boundary (`fabric/boundary_<name>.csv`) and
+  per probe (`fabric/probe_<name>.csv`: strain, stress, shear angle), units in the header;
 - `figures/fabric_<boundary>.png`: force against displacement of every boundary that is not
-  free.
+  free; `figures/fabric_stress.png`: the largest principal stress on the deformed part at
+  its last converged step (plane parts). No curve figure when no step converged.
 
 It is collective under MPI; the pipeline runs it as the `fabric` job (`knitmech.jobs`:
 in-process on one rank, or under mpirun). A part in space (`[space]`) is the same problem with
@@ -22,6 +24,7 @@ from pathlib import Path
 import numpy as np
 from mpi4py import MPI
 
+from fabric_dolfinx.io.plot import plot_cell_field
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
 from fabric_dolfinx.mesh.shapes import make_mesh
 from fabric_dolfinx.part.problem import PartProblem, PartResult, space_solver_options
@@ -37,15 +40,19 @@ from rve_rod.surface import read_surface
 
 __all__ = [
     "CURVES_FILE",
+    "STRESS_FIGURE",
     "XDMF_FILE",
     "run_fabric",
     "run_request",
+    "write_csv_curves",
 ]
 
 logger = logging.getLogger(__name__)
 
 XDMF_FILE = "paraview/fabric.xdmf"
 CURVES_FILE = "fabric/curves.json"
+STRESS_FIGURE = "figures/fabric_stress.png"
+"""The largest principal stress on the deformed part at its last converged step (plane)."""
 
 
 def _region(spec: RegionSpec, material: RegionMaterial, index: int) -> Region:
@@ -98,22 +105,72 @@ def run_fabric(job: FabricJob, folder: Path, comm=MPI.COMM_WORLD) -> dict:
         probes=job.part.probes if space is None else None,
     )
     message = ""
+    last = {}  # the PartFields, up to date at the last converged step
+
+    def keep_fields(load_factor: float, fields) -> None:
+        last["fields"], last["load_factor"] = fields, load_factor
+
     try:
-        result = problem.run(xdmf=folder / XDMF_FILE)
+        result = problem.run(xdmf=folder / XDMF_FILE, on_step=keep_fields)
     except ConvergenceError as error:
         result, message = error.history, str(error)
         logger.warning("fabric: %s; keeping the converged steps", message)
     summary = _summary(result, message, tagged.mesh.topology.index_map(2).size_global)
     if space is not None:
         summary["space"] = to_jsonable(space_curves(result, space))
+    if space is None and "fields" in last:  # collective: the cells are gathered to rank 0
+        plot_cell_field(
+            last["fields"],
+            folder / STRESS_FIGURE,
+            field="principal",
+            title=f"deformed part at load factor {last['load_factor']:.3g}",
+        )
     if comm.rank == 0:
         curves = summary["boundaries"] if space is None else summary["space"]
         (folder / CURVES_FILE).write_text(json.dumps(curves, indent=1))
-        if space is None:
+        write_csv_curves(result, folder / "fabric")
+        converged = len(result.load_factor) > 1  # else no curve to draw
+        if converged and space is None:
             _plot_curves(result, folder / "figures")
-        else:
+        elif converged:
             plot_space(summary["space"], folder / "figures")
     return summary
+
+
+def write_csv_curves(result: PartResult, folder: Path) -> list[Path]:
+    """One CSV file per boundary (`boundary_<name>.csv`: load factor, force (N) and mean
+    displacement (mm) per component) and per probe (`probe_<name>.csv`: load factor,
+    Green-Lagrange strain, Cauchy stress (N/mm) and shear angle (degrees)) of `result`, one
+    row per output state, the units in the header; returns the files."""
+    written = []
+    for name, curve in result.boundaries.items():
+        axes = "xyz"[: curve.force.shape[1]]
+        header = ["load factor (-)", *(f"F{a} (N)" for a in axes), *(f"u{a} (mm)" for a in axes)]
+        rows = np.column_stack([result.load_factor, curve.force, curve.displacement])
+        written.append(_write_csv(folder / f"boundary_{name}.csv", header, rows))
+    for name, probe in result.probes.items():
+        header = ["load factor (-)", "E_xx (-)", "E_yy (-)", "E_xy (-)"]
+        header += ["sigma_xx (N/mm)", "sigma_yy (N/mm)", "sigma_xy (N/mm)", "shear angle (deg)"]
+        rows = np.column_stack(
+            [
+                result.load_factor,
+                probe.strain[:, 0, 0],
+                probe.strain[:, 1, 1],
+                probe.strain[:, 0, 1],
+                probe.cauchy[:, 0, 0],
+                probe.cauchy[:, 1, 1],
+                probe.cauchy[:, 0, 1],
+                probe.shear_angle,
+            ]
+        )
+        written.append(_write_csv(folder / f"probe_{name}.csv", header, rows))
+    return written
+
+
+def _write_csv(path: Path, header: list[str], rows: np.ndarray) -> Path:
+    lines = [",".join(header)] + [",".join(f"{value:.10g}" for value in row) for row in rows]
+    path.write_text("\n".join(lines) + "\n")
+    return path
 
 
 def _summary(result: PartResult, message: str, cells: int) -> dict:

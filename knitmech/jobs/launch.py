@@ -74,7 +74,7 @@ def run_job(kind: str, request: dict, folder: Path, ranks: int, label: str = "")
     command = ["mpirun", "-n", str(ranks), sys.executable, "-m", "knitmech.jobs", kind]
     command += [str(request_path), str(folder), str(summary_path)]
     label = label or kind
-    logger.info("%s: %s", label, " ".join(command))
+    logger.debug("%s: %s", label, " ".join(command))
     returncode, stderr = _run_group(command, mpirun_environment())
     if returncode != 0:
         tail = "\n".join(stderr.strip().splitlines()[-5:])

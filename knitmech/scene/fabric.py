@@ -32,16 +32,16 @@ from typing import Any
 
 import numpy as np
 
+from fabric_dolfinx.spec.contents import GmshContents, part_contents
 from fabric_dolfinx.spec.expression import FieldExpression
+from fabric_dolfinx.spec.mesh_checks import check_geo_parameters
 from fabric_dolfinx.spec.part import (
     BOUNDARY_KINDS,
     COMPONENTS,
     SHAPE_DIMENSIONS,
     SHAPES,
     BoundaryCondition,
-    GmshContents,
     MeshSpec,
-    gmsh_contents,
     shape_points,
     shape_size,
 )
@@ -55,6 +55,7 @@ __all__ = [
     "KNIT_KEYS",
     "PartSpec",
     "RegionSpec",
+    "part_problems",
     "part_toml",
     "read_part",
     "region_knit",
@@ -164,8 +165,11 @@ def read_part(
         spec = _read_mesh(mesh, problems, base)
     contents = None  # a gmsh file's physical groups and element centres
     if spec is not None and spec.file is not None and Path(spec.file).is_file():
+        refused = check_geo_parameters(spec.file, spec.parameters)
+        problems.extend(f"fabric.mesh.parameters.{problem}" for problem in refused)
         try:
-            contents = gmsh_contents(spec.file, spec.parameters, spec.refinements)
+            if not refused:
+                contents = part_contents(spec, plane="space" not in data)
         except InputError as error:
             problems.append(f"fabric.mesh.file: {error}")
     region_specs = tuple(
@@ -225,6 +229,78 @@ def read_part(
     if len(problems) > count or spec is None:
         return None
     return PartSpec(spec, region_specs, boundary_specs, probes, space)
+
+
+def part_problems(part: PartSpec) -> list[str]:
+    """What only the part's mesh shows, found on the mesh gmsh makes of the resolved part (in
+    a child process, `fabric_dolfinx.spec.contents.part_contents`) before any stage runs: a
+    region that holds no cell, cells in no region (a physical surface not listed), a course
+    direction or graded stitch not finite at a cell centre or a stitch leaving its family,
+    a probe outside the part; and the mesh checks for a built-in shape. One problem per key;
+    the tube (a surface in space, one region, no probes) is checked when it is meshed."""
+    if part.mesh.shape == "tube":
+        return []
+    key = "fabric.mesh.file" if part.mesh.file is not None else "fabric.shape"
+    try:
+        contents = part_contents(part.mesh, plane=part.space is None)
+    except InputError as error:
+        return [f"{key}: {error}"]
+    names = list(contents.centres)
+    centres = np.concatenate([np.zeros((0, 2)), *(contents.centres[n] for n in names)])
+    surface = np.repeat(np.arange(len(names)), [len(contents.centres[n]) for n in names])
+    index = np.full(len(centres), -1)
+    for position, region in enumerate(part.regions):
+        if region.where is not None:
+            where = FieldExpression(region.where, f"region[{position}].where")
+            index[where(centres[:, 0], centres[:, 1]) != 0.0] = position
+        elif region.name in names:
+            index[surface == names.index(region.name)] = position
+    problems = []
+    for position, region in enumerate(part.regions):
+        cells = centres[index == position]
+        if not len(cells):
+            problems.append(
+                f"region[{position}]: {region.name!r} holds no cell of the mesh ({len(centres)} "
+                "cells; a later region may have taken them, or its where selects no cell centre)"
+            )
+            continue
+        expressions = [("angle", region.angle), ("stitch", region.graded_stitch)]
+        for name, text in expressions:
+            if not isinstance(text, str):
+                continue
+            try:
+                values = FieldExpression(text, f"region[{position}].{name}")(
+                    cells[:, 0], cells[:, 1]
+                )
+            except InputError as error:
+                problems.append(f"{error} (the centres of its cells)")
+                continue
+            members = region.members
+            if (
+                name == "stitch"
+                and members
+                and not (members[0] - 1e-9 <= values.min() and values.max() <= members[-1] + 1e-9)
+            ):
+                problems.append(
+                    f"region[{position}].stitch: {values.min():.4g} ... {values.max():.4g} mm at "
+                    f"its cells leaves the members [{members[0]:g}, {members[-1]:g}] mm"
+                )
+    missing = np.flatnonzero(index < 0)
+    if len(missing) and not problems:
+        listed = {region.name for region in part.regions}
+        others = sorted({names[i] for i in surface[missing]} - listed)
+        problems.append(
+            f"region: {len(missing)} cells belong to no region (physical surfaces not listed: "
+            f"{', '.join(others) or 'none'}); add a region for them"
+        )
+    points = np.array(list(part.probes.values())).reshape(-1, 2)
+    for position, (name, inside) in enumerate(
+        zip(part.probes, contents.contains(points), strict=True)
+    ):
+        if not inside:
+            x, y = part.probes[name]
+            problems.append(f"probe[{position}] {name!r}: ({x:g}, {y:g}) mm is not in the part")
+    return problems
 
 
 def _read_probes(value, problems: list[str]) -> dict[str, tuple[float, float]]:
@@ -394,17 +470,17 @@ def _read_region(index: int, table: dict, problems: list[str], base: Path | None
         name = f"region-{index}"
     where = table.get("where")
     if where is not None:
-        where = _expression(f"{prefix}.where", where, problems)
+        where = _expression(f"{prefix}.where", where, problems, "condition")
     angle = table.get("angle", 0.0)
     if isinstance(angle, str):
-        angle = _expression(f"{prefix}.angle", angle, problems) or 0.0
+        angle = _expression(f"{prefix}.angle", angle, problems, "a course direction") or 0.0
     elif isinstance(angle, bool) or not isinstance(angle, int | float) or not -360 <= angle <= 360:
         problems.append(f"{prefix}.angle: {angle!r} is not a number in [-360, 360] degrees")
         angle = 0.0
     knit = {key: table[key] for key in KNIT_KEYS if key in table}
     graded = None
     if isinstance(knit.get("stitch"), str):
-        graded = _expression(f"{prefix}.stitch", knit.pop("stitch"), problems)
+        graded = _expression(f"{prefix}.stitch", knit.pop("stitch"), problems, "a stitch value")
     surface, svk = table.get("surface"), table.get("svk")
     given = [key for key, value in (("surface", surface), ("svk", svk)) if value is not None]
     if knit or graded is not None:
@@ -449,12 +525,18 @@ def _read_svk(prefix: str, table, problems: list[str]) -> dict[str, float] | Non
     return {k: float(v) for k, v in values.items()}
 
 
-def _expression(key: str, text, problems: list[str]) -> str | None:
+def _expression(key: str, text, problems: list[str], kind: str) -> str | None:
+    """`text` when it is an expression of x, y of `kind` ("condition", or what a value
+    expression gives, e.g. "a stitch value"), else None and a problem."""
     if not isinstance(text, str):
         problems.append(f"{key}: expected an expression of x, y (a string), got {text!r}")
         return None
     try:
-        FieldExpression(text, key)
+        expression = FieldExpression(text, key)
+        if kind == "condition":
+            expression.as_condition()
+        else:
+            expression.as_value(kind)
     except InputError as error:
         problems.append(str(error))
         return None
@@ -523,7 +605,8 @@ def _check_names(source: str, names, regions, boundaries, problems: list[str]) -
                 f"its boundaries: {', '.join(curves) or 'none'}"
             )
     for index, region in enumerate(regions):
-        if region.where is None and region.name not in surfaces:
+        refused = any(p.startswith(f"region[{index}].where:") for p in problems)
+        if region.where is None and region.name not in surfaces and not refused:
             problems.append(
                 f"region[{index}].name: {source} has no region {region.name!r} (its regions: "
                 f"{', '.join(surfaces) or 'none'}); a new region needs a where condition"

@@ -10,12 +10,15 @@ cache entry nor half-written files, and the next run computes it again while eve
 finished before is taken from the cache.
 """
 
+import contextlib
+import fcntl
 import json
 import logging
+import os
 import shutil
 import tempfile
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import NamedTuple
@@ -23,17 +26,20 @@ from typing import NamedTuple
 import numpy as np
 
 from rve_rod.cache import ResultCache, cache_key
+from rve_rod.errors import InputError
 from rve_rod.jsonable import to_jsonable
 
 __all__ = [
     "CACHED",
     "COMPUTED",
     "GIVEN",
+    "LOCK_FILE",
     "Stage",
     "StageCache",
     "StageRecord",
     "StageResult",
     "remove_stale_work",
+    "results_folder_lock",
 ]
 
 logger = logging.getLogger(__name__)
@@ -122,7 +128,7 @@ class StageCache:
                 target.write_bytes(arrays[f"file_{index}"].tobytes())
             status = CACHED
         else:
-            logger.info("%s: computing", _label(stage))
+            logger.debug("%s: computing", _label(stage))
             with tempfile.TemporaryDirectory(dir=output, prefix=_WORK_PREFIX) as temporary:
                 work = Path(temporary)
                 summary = to_jsonable(stage.compute(work))
@@ -151,9 +157,41 @@ class StageCache:
         return StageResult(summary, record)
 
 
+LOCK_FILE = ".knitmech.lock"
+"""The lock file of a results folder (`results_folder_lock`)."""
+
+
+@contextlib.contextmanager
+def results_folder_lock(folder: Path, name: str = "output") -> Iterator[Path]:
+    """Hold the results folder `folder` (created if missing) for one run: an exclusive
+    `flock` on its LOCK_FILE for as long as the block runs, released by the kernel when the
+    process dies however it dies. A second run into the same folder is refused at once
+    (InputError naming `name`): before, its clean-up deleted the live `.stage-*` folder of
+    the first, which died with a traceback, or two scenes ran at once and left a folder of
+    both. Holding the lock, the `.stage-*` folders a run finds are those of a killed run."""
+    folder = Path(folder)
+    folder.mkdir(exist_ok=True)
+    descriptor = os.open(folder / LOCK_FILE, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(descriptor)
+        holder = (folder / LOCK_FILE).read_text().strip() or "another process"
+        raise InputError(
+            f"{name} {folder}: another knitmech run ({holder}) is writing into it; wait for it "
+            "to end or give another folder"
+        ) from None
+    try:
+        os.ftruncate(descriptor, 0)
+        os.write(descriptor, f"process {os.getpid()}".encode())
+        yield folder
+    finally:
+        os.close(descriptor)
+
+
 def remove_stale_work(output: Path) -> list[Path]:
     """Delete the temporary folders of stages a killed run left in `output` (SIGKILL, power
-    loss: nothing could clean up); returns them. Call it before a run, never during one."""
+    loss: nothing could clean up); returns them. Call it holding `results_folder_lock`."""
     stale = sorted(p for p in Path(output).glob(f"{_WORK_PREFIX}*") if p.is_dir())
     for path in stale:
         logger.info("removing %s, left by an interrupted run", path)

@@ -167,17 +167,24 @@ def fabric_stage(job: FabricJob, ranks: int) -> Stage:
 
 def fabric_table(summary: dict) -> str:
     """The printed lines of the fabric stage: force and mean displacement of every boundary
-    at the end of the load path."""
+    and the state of every probe at the end of the load path."""
     lines = [
         f"part: {summary['cells']} cells, {summary['dofs']} DOFs, {len(summary['load_factor']) - 1}"
         f" steps{'' if summary['complete'] else ' (INCOMPLETE: ' + summary['message'] + ')'}",
-        f"  {'boundary':<12}{'kind':<14}{'Fx (N)':>10}{'Fy (N)':>10}{'ux (mm)':>10}{'uy (mm)':>10}",
+        f"  {'boundary':<12} {'kind':<13}"
+        + "".join(f" {h:>11}" for h in ("Fx (N)", "Fy (N)", "ux (mm)", "uy (mm)")),
     ]
     for name, curve in summary["boundaries"].items():
-        force, displacement = curve["force"][-1], curve["displacement"][-1]
+        values = [*curve["force"][-1][:2], *curve["displacement"][-1][:2]]
+        # a space before every number: -1.119e-15 fills its column
+        lines.append(f"  {name:<12} {curve['kind']:<13}" + "".join(f" {v:>11.4g}" for v in values))
+    for name, probe in summary.get("probes", {}).items():
+        strain, stress = probe["strain"][-1], probe["cauchy"][-1]
         lines.append(
-            f"  {name:<12}{curve['kind']:<14}{force[0]:>10.4g}{force[1]:>10.4g}"
-            f"{displacement[0]:>10.4g}{displacement[1]:>10.4g}"
+            f"  probe {name} at ({probe['centre'][0]:.4g}, {probe['centre'][1]:.4g}) mm: "
+            f"shear angle {probe['shear_angle'][-1]:.4g} deg, E = ({strain[0][0]:.4g}, "
+            f"{strain[1][1]:.4g}, {strain[0][1]:.4g}), sigma = ({stress[0][0]:.4g}, "
+            f"{stress[1][1]:.4g}, {stress[0][1]:.4g}) N/mm (xx, yy, xy)"
         )
     space = summary.get("space")
     if space is not None and "indenter_resistance" in space:

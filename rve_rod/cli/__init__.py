@@ -17,7 +17,7 @@ import sys
 from rve_rod import __version__
 from rve_rod.errors import CommandLineParser, cli_exit_status, terminate_as_interrupt
 from rve_rod.help_format import HelpFormatter
-from rve_rod.log_setup import install_handler
+from rve_rod.log_setup import add_common_flags, install_handler
 
 __all__ = [
     "SUBCOMMANDS",
@@ -36,8 +36,6 @@ def build_parser() -> argparse.ArgumentParser:
         description="Yarn-level model of single-jersey knits: loop geometry, Cosserat-rod RVE, "
         "response surfaces.",
     )
-    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
-    parser.add_argument("-v", "--verbose", action="count", default=0, help="more log output")
     subparsers = parser.add_subparsers(
         dest="command",
         required=True,
@@ -47,6 +45,7 @@ def build_parser() -> argparse.ArgumentParser:
     for name in SUBCOMMANDS:
         module = __import__(f"rve_rod.cli.{name}", fromlist=["register"])
         module.register(subparsers)
+    add_common_flags(parser, f"rve-rod {__version__}")
     return parser
 
 
@@ -58,7 +57,8 @@ def main(argv: list[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
         command = args.command
         handler = logging.StreamHandler()
-        handler.setLevel(logging.WARNING - 10 * min(args.verbose, 2))
+        quiet = logging.ERROR if args.quiet else logging.WARNING
+        handler.setLevel(quiet - 10 * min(args.verbose, 2))
         handler.setFormatter(logging.Formatter("%(levelname)s %(name)s: %(message)s"))
         install_handler(handler, handler.level)
         return int(args.run(args) or 0)

@@ -10,7 +10,7 @@ from rve_rod.cli.common import add_fabric_arguments, fabric_from_args, print_jso
 from rve_rod.errors import InputError, check_positive
 from rve_rod.geometry.loop import loop_geometry, loop_polylines
 from rve_rod.imaging import knit_from_photo
-from rve_rod.outputs import check_output_file
+from rve_rod.outputs import check_output_file, figure_formats
 from rve_rod.presets import Fabric, Knit, Yarn
 from rve_rod.vtk import write_polylines
 
@@ -37,9 +37,10 @@ def register(subparsers) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    for name, path in (("--plot", args.plot), ("--vtk", args.vtk)):
-        if path is not None:
-            check_output_file(name, path)
+    if args.plot is not None:
+        check_output_file("--plot", args.plot, figure_formats())
+    if args.vtk is not None:
+        check_output_file("--vtk", args.vtk)
     fabric = _fabric(args)
     geometry = loop_geometry(fabric.knit, fabric.yarn.minimal_radius)
     written = []

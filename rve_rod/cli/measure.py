@@ -6,7 +6,7 @@ from rve_rod.cli.common import print_json
 from rve_rod.imaging.image_io import read_image
 from rve_rod.imaging.measure import measure_photo
 from rve_rod.imaging.overlay import plot_overlay
-from rve_rod.outputs import check_output_file
+from rve_rod.outputs import check_output_file, figure_formats
 
 __all__ = [
     "register",
@@ -35,7 +35,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     if args.plot is not None:
-        check_output_file("--plot", args.plot)
+        check_output_file("--plot", args.plot, figure_formats())
     image = read_image(args.photo)
     estimate = measure_photo(image, args.pixels_per_mm)
     if args.plot:

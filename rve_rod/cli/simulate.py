@@ -18,7 +18,7 @@ from rve_rod.cli.common import (
 )
 from rve_rod.errors import ConvergenceError
 from rve_rod.limits import check_count
-from rve_rod.outputs import check_output_file, check_output_folder
+from rve_rod.outputs import check_output_file, check_output_folder, figure_formats
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import CASES, load_case
 from rve_rod.rve.simulation import (
@@ -79,7 +79,7 @@ def register(subparsers) -> None:
 
 def run_simulate(args: argparse.Namespace) -> int:
     if args.plot is not None:
-        check_output_file("--plot", args.plot)
+        check_output_file("--plot", args.plot, figure_formats())
     if args.vtk is not None:
         check_output_folder("--vtk", args.vtk)
     check_count("--control-points", args.control_points, limits.CONTROL_POINTS)

@@ -21,8 +21,8 @@ from rve_rod.homogenize.executors import add_executor_argument
 from rve_rod.homogenize.fit import FitOptions, FitReport
 from rve_rod.homogenize.generate import GenerationError, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
-from rve_rod.limits import check_count
-from rve_rod.outputs import check_output_file, check_output_folder
+from rve_rod.limits import available_cores, check_count
+from rve_rod.outputs import check_output_file, check_output_folder, figure_formats
 from rve_rod.rve.engine import fabric_settings, surface_engine
 from rve_rod.rve.yarn import bending_model
 from rve_rod.surface import (
@@ -84,7 +84,10 @@ def register(subparsers) -> None:
     )
     add_executor_argument(parser)
     parser.add_argument(
-        "--jobs", type=int, default=1, help="local worker processes (default 1; not for mpi)"
+        "--jobs",
+        type=int,
+        default=available_cores(),
+        help=f"local worker processes (default: all cores, {available_cores()}; not for mpi)",
     )
     parser.add_argument(
         "--energy", action="store_true", help="write the energy fit (symmetric tangent)"
@@ -110,7 +113,7 @@ def register(subparsers) -> None:
 def run_surface(args: argparse.Namespace) -> int:
     output = check_output_file("--output", args.output)
     if args.plot is not None:
-        check_output_file("--plot", args.plot)
+        check_output_file("--plot", args.plot, figure_formats())
     cache_dir = check_output_folder("--cache-dir", args.cache_dir) if args.cache_dir else None
     check_count("--rays", args.rays, limits.RAYS)
     check_count("--control-points", args.control_points, limits.CONTROL_POINTS)
@@ -136,7 +139,7 @@ def run_surface(args: argparse.Namespace) -> int:
             cache=cache,
             executor=args.executor,
             jobs=args.jobs,
-            progress=sys.stderr,
+            progress=None if args.quiet else sys.stderr,
         )
     except GenerationError as error:
         print(f"rve-rod surface: stopped: {error}", file=sys.stderr)

@@ -5,6 +5,7 @@ import argparse
 from rve_rod.cli.common import add_fabric_arguments, fabric_from_args
 from rve_rod.imaging.image_io import write_image
 from rve_rod.imaging.synthetic import SyntheticPhoto, render_photo
+from rve_rod.outputs import check_output_file, image_formats
 
 __all__ = [
     "register",
@@ -42,6 +43,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    check_output_file("--output", args.output, image_formats())
     fabric = fabric_from_args(args, need_material=False)
     knit = fabric.knit
     photo = SyntheticPhoto(

@@ -36,6 +36,7 @@ from rve_rod.presets import Fabric
 from rve_rod.surface import ResponseSurface
 
 __all__ = [
+    "PENETRATION_STOP",
     "WORKER_DIED",
     "GeneratedSurface",
     "GenerationError",
@@ -148,6 +149,10 @@ def case_inputs(case: RveCase, run) -> dict:
     }
 
 
+PENETRATION_STOP = "CellSettings.penetration_limit"
+"""Words of the refusal of a state beyond the penetration limit (`rve_rod.rve.cell`)."""
+
+
 def execute(run, case: RveCase) -> RveRun:
     """`run(case)`; a ConvergenceError carrying an RveRun becomes that (incomplete) run."""
     try:
@@ -155,12 +160,16 @@ def execute(run, case: RveCase) -> RveRun:
     except ConvergenceError as error:
         if not isinstance(error.history, RveRun):
             raise
-        logger.warning(
+        # a ray that stops where the yarns would pass through each other is expected (the
+        # fit continues the surface beyond it; the run reports a count): INFO, not WARNING
+        expected = PENETRATION_STOP in str(error)
+        logger.log(
+            logging.INFO if expected else logging.WARNING,
             "%s stopped after %d of %d steps: %s",
             case.load,
             error.history.deformation_gradient.shape[0],
             case.load.steps,
-            error,
+            "at the penetration limit" if expected else error,
         )
         return dataclasses.replace(error.history, complete=False)
     if not isinstance(result, RveRun):

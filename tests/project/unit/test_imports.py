@@ -132,6 +132,7 @@ FABRIC_USES_OF_RVE_ROD = {
     "rve_rod.help_format",  # the command line's
     "rve_rod.log_setup",
     "rve_rod.outputs",
+    "rve_rod",  # the package's version (--version)
 }
 """What `fabric_dolfinx` may use of `rve_rod` (its package docstring says the same)."""
 

@@ -53,12 +53,18 @@ def corrupt_file(tmp_path):
 BAD_ARGUMENTS = {
     "missing surface": (["--surface", "nowhere.h5"], "nowhere.h5: no such file"),
     "corrupt surface": (["--surface", "CORRUPT"], "truncated or corrupt file"),
-    "unknown direction": (["--direction", "bias"], "direction='bias' is not one of course, wale"),
+    "unknown direction": (
+        ["--direction", "bias"],
+        "argument --direction: invalid choice: 'bias' (choose from 'course', 'wale')",
+    ),
     "negative size": (["--size", "-50"], "size=-50 mm must be > 0"),
     "negative elements": (["--elements", "-3"], "elements=-3 is outside the valid range"),
     "non-numeric": (["--max-strain", "lots"], "argument --max-strain: invalid float value"),
     "bad svk": (["--svk", "1,2"], "--svk '1,2' must be four numbers"),
-    "unknown solver": (["--linear-solver", "jacobi"], "linear_solver='jacobi' is not one of"),
+    "unknown solver": (
+        ["--linear-solver", "jacobi"],
+        "argument --linear-solver: invalid choice: 'jacobi' (choose from 'lu', 'gmres', 'cg')",
+    ),
 }
 
 

@@ -27,6 +27,8 @@ import rve_rod.cli.geometry
 import rve_rod.cli.measure
 import rve_rod.cli.simulate
 import rve_rod.cli.surface
+import rve_rod.cli.synth_photo
+from fabric_dolfinx.mesh.tagged import MESH_DIRECTORY
 from knitmech.scene import default_surface_path
 from rve_rod.imaging.synthetic import SyntheticPhoto, render_photo
 from rve_rod.limits import available_cores
@@ -60,6 +62,44 @@ Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 1}; Curve Loop(1) = {1, 2, 3};
 Plane Surface(1) = {1}; Physical Curve("bottom") = {1}; Physical Surface("fabric") = {1};
 """
 
+SEAM = """DefineConstant[ size = {5, Name "Parameters/size"} ];
+Point(1) = {0, 0, 0, size}; Point(2) = {25, 0, 0, size}; Point(3) = {25, 50, 0, size};
+Point(4) = {0, 50, 0, size}; Point(5) = {50, 0, 0, size}; Point(6) = {50, 50, 0, size};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
+Line(5) = {2, 5}; Line(6) = {5, 6}; Line(7) = {6, 3}; Line(8) = {3, 2};
+Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+Curve Loop(2) = {5, 6, 7, 8}; Plane Surface(2) = {2};
+Physical Curve("left") = {4}; Physical Curve("right") = {6};
+Physical Surface("fabric") = {1, 2}; Mesh.RecombineAll = 1;
+"""
+"""Two squares with their own lines along x = 25 (a non-conforming mesh: the seam carries no
+load); {seam} in a row."""
+UPRIGHT = """Point(1) = {0, 0, 0, 5}; Point(2) = {50, 0, 0, 5}; Point(3) = {50, 0, 50, 5};
+Point(4) = {0, 0, 50, 5}; Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4};
+Line(4) = {4, 1}; Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+Physical Curve("bottom") = {1}; Physical Surface("fabric") = {1}; Mesh.RecombineAll = 1;
+"""
+"""A square drawn in the x-z plane; {upright} in a row."""
+CRASH = """Point(1) = {0, 0, 0, 5}; Point(2) = {50, 0, 0, 5}; Point(3) = {50, 50, 0, 5};
+Point(4) = {0, 50, 0, 5}; Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4};
+Line(4) = {4, 1}; Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+Physical Curve("bottom") = {1}; Physical Surface("fabric") = {1};
+Mesh.Algorithm = 8; Mesh.RecombineAll = 1;
+"""
+"""A square meshed by gmsh 4.8's algorithm 8, which crashes it (SIGSEGV); {crash}."""
+TWO = (
+    SEAM.replace("Line(8) = {3, 2};", "")
+    .replace("{5, 6, 7, 8}", "{5, 6, 7, -2}")
+    .replace(
+        'Physical Surface("fabric") = {1, 2};',
+        'Physical Surface("a") = {1}; Physical Surface("b") = {2};',
+    )
+)
+"""The two squares of SEAM sharing their line along x = 25, in two physical surfaces a and b
+(a conforming mesh); {two} in a row."""
+PLATE = "[fabric.mesh]\nfile = '{plate}'\n[[boundary]]\nname = 'left'\nkind = 'clamp'\n"
+"""The repository's plate with a hole as the user's own .geo file ({plate})."""
+
 # tool, arguments, scene lines (for {scene}), exit status, words of the message
 TABLE = [
     # tracebacks before
@@ -90,6 +130,26 @@ TABLE = [
         "bending='free-fibres' needs the yarn's fibres",
     ),
     ("knitmech", "run {scene}", "bending = 'wood'", 2, "fabric.bending: 'wood' is unknown"),
+    # scene files that are not UTF-8 text (issue 31)
+    (
+        "knitmech",
+        "run {binary}",
+        "",
+        2,
+        "scene file {binary}: not UTF-8 text (byte 0x89 at offset 0)",
+    ),
+    (
+        "knitmech",
+        "run {utf16}",
+        "",
+        2,
+        "scene file {utf16}: not UTF-8 text (it holds NUL bytes: UTF-16 without its",
+    ),
+    # image formats checked after the work (issue 31)
+    ("rve-rod", f"geometry {FABRIC} --plot x.foo", "", 2, "--plot x.foo: .foo is not a format"),
+    ("rve-rod", f"simulate {FABRIC} --plot x.foo", "", 2, "--plot x.foo: .foo is not a format"),
+    ("fabric-dolfinx", f"{SVK} --plot x.foo", "", 2, "--plot x.foo: .foo is not a format"),
+    ("rve-rod", f"synth-photo {FABRIC} -o x.foo", "", 2, "--output x.foo: .foo is not a format"),
     # hangs and runaway resources before
     ("rve-rod", f"simulate {FABRIC} --control-points 100000", "", 2, "[20, 300]"),
     ("rve-rod", f"simulate {FABRIC} --steps 1000000", "", 2, "steps=1000000 is outside"),
@@ -160,6 +220,115 @@ TABLE = [
         2,
         "boundary: conditions overlap, 'bottom' is given twice",
     ),
+    # silent wrong answers on parts (issue 31)
+    (
+        "knitmech",
+        "run {scene}",
+        "[fabric.mesh]\nfile = '{seam}'\n[[boundary]]\nname = 'left'\nkind = 'clamp'",
+        2,
+        "seam.geo: the mesh is not conforming: ",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PLATE}[fabric.mesh.parameters]\nsise = 5.0",
+        2,
+        "fabric.mesh.parameters.sise: plate_with_hole.geo declares no parameter 'sise'",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PLATE}[fabric.mesh.parameters]\nsize = 0.0",
+        2,
+        "fabric.mesh.parameters.size: 0 must be > 0 (a .geo parameter is a length or a size",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PART}[[region]]\nname = 'fabric'\nangle = 'x > 25'",
+        2,
+        "region[0].angle: 'x > 25' is a condition (true or false), not a course direction",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PART}[[region]]\nname = 'fabric'\n[[region]]\nname = 'band'\nwhere = 'x + 5'",
+        2,
+        "region[1].where: 'x + 5' is a value, not a condition",
+    ),
+    # runaway meshes and crashes (issue 31)
+    (
+        "knitmech",
+        "run {scene}",
+        PART.replace("height = 200.0", "height = 200.0\nelement_size = 0.001"),
+        2,
+        "fabric.shape.element_size: rectangle of element_size 0.001 mm gives about 1e+10 cells",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        PART.replace("height = 200.0", "height = 200.0\nrefinements = 6"),
+        2,
+        "fabric.shape.refinements: rectangle of 144 cells gives about 5.9e+05 cells after 6",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PLATE}[fabric.mesh.parameters]\nsize = 0.01",
+        2,
+        "plate_with_hole.geo (estimated from its boundary, at least) gives about",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PLATE}[fabric.mesh.parameters]\nsize = -5.0",
+        2,
+        "fabric.mesh.parameters.size: -5 must be > 0",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        "[fabric.mesh]\nfile = '{crash}'\n[[boundary]]\nname = 'bottom'\nkind = 'clamp'",
+        2,
+        "crash.geo: gmsh crashed (SIGSEGV) while meshing it; another Mesh.Algorithm may help",
+    ),
+    # refused late (issue 31)
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PART}[[probe]]\nname = 'far'\nx = 500.0\ny = 0.0",
+        2,
+        "probe[0] 'far': (500, 0) mm is not in the part",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PART}[[region]]\nname = 'fabric'\n[[region]]\nname = 'band'\nwhere = 'x > 500'",
+        2,
+        "region[1]: 'band' holds no cell of the mesh (144 cells;",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        "[fabric.mesh]\nfile = '{two}'\n[[region]]\nname = 'a'\n"
+        "[[boundary]]\nname = 'left'\nkind = 'clamp'",
+        2,
+        "cells belong to no region (physical surfaces not listed: b); add a region for them",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        f"{PART}[[region]]\nname = 'fabric'\nangle = 'log(x - 30)'",
+        2,
+        "region[0].angle: 'log(x - 30)' is not finite at some points (the centres of its cells)",
+    ),
+    (
+        "knitmech",
+        "run {scene}",
+        "[fabric.mesh]\nfile = '{upright}'\n[[boundary]]\nname = 'bottom'\nkind = 'clamp'",
+        2,
+        "upright.geo: the mesh is not in the x-y plane (it spans x 50 mm, y 0 mm, z 50 mm)",
+    ),
 ]
 
 
@@ -175,6 +344,7 @@ def no_work(monkeypatch):
     monkeypatch.setattr(rve_rod.cli.simulate, "simulate", _tripwire)
     monkeypatch.setattr(rve_rod.cli.surface, "generate_surface", _tripwire)
     monkeypatch.setattr(rve_rod.cli.measure, "read_image", _tripwire)
+    monkeypatch.setattr(rve_rod.cli.synth_photo, "render_photo", _tripwire)
     monkeypatch.setattr(fabric_dolfinx.cli, "TensionSetup", _tripwire)
     monkeypatch.setattr(knitmech.pipeline.StageCache, "run", _tripwire)
 
@@ -193,14 +363,29 @@ def test_bad_input_one_line_naming_the_parameter_before_any_work(
     }
     places["dir"].mkdir()
     places["file"].write_text("not a folder")
-    places["tri"] = tmp_path / "tri.geo"
-    places["tri"].write_text(TRIANGLES)
+    places["binary"] = tmp_path / "photo.toml"  # a PNG's first bytes
+    places["binary"].write_bytes(b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR")
+    places["utf16"] = tmp_path / "utf16.toml"  # UTF-16 without its byte-order mark
+    places["utf16"].write_bytes(SCENE.encode("utf-16-le"))
+    geo = (
+        ("tri", TRIANGLES),
+        ("seam", SEAM),
+        ("upright", UPRIGHT),
+        ("crash", CRASH),
+        ("two", TWO),
+    )
+    for name, text in geo:
+        places[name] = tmp_path / f"{name}.geo"
+        places[name].write_text(text)
+    places["plate"] = MESH_DIRECTORY / "plate_with_hole.geo"
     text = (
         scene
         if scene.startswith("name")
         else SCENE.replace("stitch = 5.5", f"stitch = 5.5\n{scene}")
     )
-    places["scene"].write_text(text.replace("{tri}", str(places["tri"])))
+    for name in ("tri", "seam", "upright", "crash", "two", "plate"):
+        text = text.replace(f"{{{name}}}", str(places[name]))
+    places["scene"].write_text(text)
     argv = [argument.format(**places) for argument in arguments.split()]
     if tool == "knitmech" and "--cache-dir" not in argv:
         argv += ["--cache-dir", str(tmp_path / "cache")]

@@ -1,7 +1,18 @@
 """`knitmech run` refuses bad scenes before computing anything: exit status 2, one line per
 problem naming its key, no results and no cache written."""
 
+import tomllib
+
+import pytest
+
+import fabric_dolfinx.cli
+import knitmech.cli
+import rve_rod.cli
 from knitmech.cli import main
+from knitmech.fidelity import fidelity_level
+from knitmech.pipeline import check_plan, run_scene
+from knitmech.scene import default_surface_path, load_scene, scene_from_dict, starter_scene_path
+from knitmech.stages import plan_run
 
 
 def run(tmp_path, text, capsys, *extra):
@@ -77,3 +88,57 @@ def test_usage_errors_exit_2_with_one_line(tmp_path, capsys):
         "knitmech run: error: jobs=0 is outside the valid range [1, 256]"
     ]
     assert nothing_written(tmp_path)
+
+
+def test_init_writes_a_commented_scene_that_plans_and_keeps_an_existing_file(tmp_path, capsys):
+    path = tmp_path / "scene.toml"
+    assert main(["init", str(path)]) == 0
+    assert (
+        capsys.readouterr().out == f"wrote {path}; edit it, then: knitmech run {path} -o results\n"
+    )
+    text = path.read_text()
+    assert text.count("#") > 30  # every section explained
+    scene = load_scene(path)
+    check_plan(plan_run(scene, fidelity_level(scene.fidelity)))
+    assert [b.kind for b in scene.part.boundaries] == ["clamp", "displacement"]
+    path.write_text("mine")
+    assert main(["init", str(path)]) == 2
+    assert "exists already; give another name or --force" in capsys.readouterr().err
+    assert path.read_text() == "mine"
+    assert main(["init", str(path), "--force"]) == 0 and path.read_text() == text
+
+
+@pytest.mark.slow
+def test_the_starter_scene_runs(tmp_path):
+    """`knitmech init`'s scene as written, on the shipped surface (no RVE run)."""
+    data = tomllib.loads(starter_scene_path().read_text())
+    data["surface"]["path"] = str(default_surface_path())
+    data["meso"]["cases"] = []
+    result = run_scene(scene_from_dict(data), output=tmp_path / "out", cache_dir=tmp_path)
+    part = result.summary["part"]
+    assert part["complete"] and part["boundaries"]["top"]["force"][-1][1] > 0.0
+    assert (tmp_path / "out" / "fabric" / "probe_centre.csv").is_file()
+
+
+@pytest.mark.parametrize(
+    ("tool", "command"),
+    [
+        ("rve-rod", ["geometry", "--preset", "cotton-20s2", "--stitch", "5.5"]),
+        ("fabric-dolfinx", ["tension", "--svk", "1,2,0.3,1"]),
+        ("knitmech", ["run"]),
+    ],
+)
+def test_the_three_tools_take_the_same_flags_before_and_after_the_subcommand(tool, command):
+    """--version, -q and -v, before or after the subcommand (issue 31: the tools differed)."""
+    parser = {
+        "rve-rod": rve_rod.cli.build_parser,
+        "fabric-dolfinx": fabric_dolfinx.cli.build_parser,
+        "knitmech": knitmech.cli.build_parser,
+    }[tool]()
+    for before, after in (([], []), (["-v"], []), ([], ["-v"]), (["-q"], []), ([], ["-q"])):
+        args = parser.parse_args([*before, *command, *after])
+        assert (args.quiet, args.verbose) == ("-q" in before + after, int("-v" in before + after))
+    for place in (["--version", *command], [*command, "--version"]):
+        with pytest.raises(SystemExit) as stop:
+            parser.parse_args(place)
+        assert stop.value.code == 0

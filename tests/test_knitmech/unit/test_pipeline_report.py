@@ -117,6 +117,26 @@ def test_table_shows_every_force_and_missing_values_as_dashes():
     assert macro_row[1:] == ["1", "1", "0", "2.0"]
 
 
+def test_a_part_scene_shows_the_rve_without_the_patchs_empty_columns():
+    """A part scene has RVE curves but no patch: its table printed six columns of "-"."""
+    meso = {"uniaxial-wale": curve(0.2, 11, lambda s: 100 * s, lambda s: -0.1 * s)}
+    summary = {
+        "scene": {"name": "strip"},
+        "fidelity": {"name": "fast"},
+        "forces": compare_forces(meso, {}),
+        "poisson_ratios": poisson_ratios(meso, {}),
+        "stages": [{"stage": "meso", "status": "computed"}],
+        "timings_s": {"meso": 0.5, "report": 0.1, "total": 0.6},
+    }
+    rows = summary_table(summary).splitlines()
+    assert rows[2] == "  strain     meso   wale-wise force (gf/cm)"
+    assert next(row for row in rows if row.strip().startswith("10 %")).split() == [
+        "10",
+        "%",
+        "10.00",
+    ]
+
+
 def test_records_survive_their_json_round_trip():
     """What the stage cache stores (JSON text) reads back to an equal record; NaN is null."""
     meso = curve(0.2, 5, lambda s: 100 * s, lambda s: -0.1 * s)

@@ -5,7 +5,7 @@ from pathlib import Path
 import pytest
 
 from knitmech.fidelity import LEVELS
-from knitmech.scene import SceneError, load_scene, scene_from_dict
+from knitmech.scene import SceneError, default_scene_path, load_scene, scene_from_dict
 from knitmech.stages import plan_run
 from rve_rod.errors import InputError
 from rve_rod.presets import load_preset
@@ -141,3 +141,13 @@ def test_the_default_bends_with_the_fibres_where_known_and_the_example_with_the_
     explicit["fabric"]["bending"] = "free-fibres"
     with pytest.raises(InputError, match="needs the yarn's fibres"):
         plan_run(scene_from_dict(explicit), LEVELS["fast"])
+
+
+@pytest.mark.parametrize("encoding", ["utf-8-sig", "utf-16"])
+def test_a_scene_saved_with_a_byte_order_mark_reads_as_plain_utf8(tmp_path, encoding):
+    """Editors put a byte-order mark before UTF-8 (and Windows' "Unicode" is UTF-16): such a
+    scene gave "Invalid statement (at line 1, column 1)" or a UnicodeDecodeError traceback."""
+    text = default_scene_path().read_text(encoding="utf-8") + '# "ü" in a comment\n'
+    path = tmp_path / "scene.toml"
+    path.write_bytes(text.encode(encoding))
+    assert load_scene(path) == load_scene(default_scene_path())

@@ -25,6 +25,7 @@ two-region plate with a hole under `mpirun -n 2` against one rank.
 """
 
 import json
+import re
 import tomllib
 from pathlib import Path
 
@@ -172,9 +173,24 @@ def check_results_folder(folder, part, constants, angle, top):
     (no knit), the course direction `angle`."""
     curves = json.loads((folder / "fabric" / "curves.json").read_text())
     assert curves == part["boundaries"]
-    for name in ("top", "bottom"):
+    for name, curve in curves.items():  # the same curves as CSV, units in the header
+        table = np.loadtxt(folder / "fabric" / f"boundary_{name}.csv", delimiter=",", skiprows=1)
+        header = (folder / "fabric" / f"boundary_{name}.csv").read_text().splitlines()[0]
+        assert header == "load factor (-),Fx (N),Fy (N),ux (mm),uy (mm)"
+        np.testing.assert_allclose(table[:, 0], part["load_factor"], rtol=1e-9)
+        np.testing.assert_allclose(table[:, 1:3], curve["force"], rtol=1e-9, atol=1e-15)
+        np.testing.assert_allclose(table[:, 3:], curve["displacement"], rtol=1e-9, atol=1e-15)
+    for name, probe in part["probes"].items():
+        table = np.loadtxt(folder / "fabric" / f"probe_{name}.csv", delimiter=",", skiprows=1)
+        np.testing.assert_allclose(table[:, -1], probe["shear_angle"], rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(table[:, 4], np.array(probe["cauchy"])[:, 0, 0], atol=1e-12)
+    for name in ("top", "bottom", "stress"):
         with Image.open(folder / "figures" / f"fabric_{name}.png") as image:
             assert min(image.size) > 100
+    # the patch's comparison figure, empty for a part without a uniaxial RVE case, is not made
+    assert not (folder / "figures" / "force_strain.png").exists()
+    table = (folder / "summary.txt").read_text()
+    assert "shear angle" in table and not re.search(r"\s-(\s|$)", table)  # no empty cell
     xdmf = (folder / "paraview" / "fabric.xdmf").read_text()
     assert all(f'Attribute Name="{name}"' in xdmf for name in FIELDS)
     with h5py.File(folder / "paraview" / "fabric.h5", "r") as h5:
@@ -316,3 +332,33 @@ def test_a_multi_region_part_gives_the_same_answer_under_mpirun(tmp_path):
     for name, probe in serial["probes"].items():
         np.testing.assert_allclose(parallel["probes"][name]["cauchy"], probe["cauchy"], atol=1e-10)
     assert serial["boundaries"]["top"]["force"][-1][1] > 0.1
+
+
+@pytest.mark.slow
+def test_the_slack_l_bracket_reaches_its_load_in_equilibrium(tmp_path, cache):
+    """A force on a part at rest (issue 31): with increments cut no lower than 1/1024 of the
+    load it stopped at 0 steps whatever the number of steps. Now every step converges; the
+    held edge's reaction balances the tip's load in every step, and 10 or 40 steps end in
+    the same state (the path of a hyperelastic-like law does not depend on its steps)."""
+    part, _ = run_example("l_bracket", tmp_path / "ten", cache)
+    load = np.array([0.035355, -0.035355]) * 40.0  # N: traction times the tip's length
+    factors = np.array(part["load_factor"])
+    assert factors[-1] == 1.0
+    reaction = np.array(part["boundaries"]["top"]["force"])
+    np.testing.assert_allclose(reaction, -factors[:, None] * load, rtol=1e-8, atol=1e-10)
+    tip = np.array(part["boundaries"]["tip"]["displacement"])[-1]
+
+    def forty_steps(data):
+        data["macro"]["steps"] = 40
+
+    finer, _ = run_example("l_bracket", tmp_path / "forty", cache, forty_steps)
+    np.testing.assert_allclose(finer["boundaries"]["tip"]["displacement"][-1], tip, rtol=1e-6)
+    # the results folder holds the gmsh file and a scene naming it: it runs again on its own
+    assert (tmp_path / "ten" / "mesh" / "l_bracket.geo").read_text() == (
+        EXAMPLES / "l_bracket.geo"
+    ).read_text()
+    assert 'file = "mesh/l_bracket.geo"' in (tmp_path / "ten" / "scene.toml").read_text()
+    scene = load_scene(tmp_path / "ten" / "scene.toml")
+    again = run_scene(scene, output=tmp_path / "again", cache_dir=cache).summary["part"]
+    np.testing.assert_allclose(again["boundaries"]["tip"]["displacement"][-1], tip, rtol=1e-9)
+    print(f"tip displacement {tip} mm, {len(factors) - 1} steps, {part['cutbacks']} cutbacks")

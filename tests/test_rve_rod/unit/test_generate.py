@@ -2,6 +2,7 @@
 
 import dataclasses
 import io
+import logging
 
 import numpy as np
 import pytest
@@ -11,8 +12,10 @@ from rve_rod.cache import ResultCache
 from rve_rod.errors import ConvergenceError
 from rve_rod.homogenize.analytic import AnalyticRve
 from rve_rod.homogenize.generate import (
+    PENETRATION_STOP,
     WORKER_DIED,
     GenerationError,
+    execute,
     generate_surface,
     run_cases,
 )
@@ -147,3 +150,26 @@ def test_progress_during_generation():
     run_cases(CASES, AnalyticRve(), progress=stream)
     final = stream.getvalue().split("\r")[-1]
     assert f"{len(CASES)}/{len(CASES)}" in final and final.endswith("\n")
+
+
+@pytest.mark.parametrize("jammed", [True, False])
+def test_a_run_stopped_at_the_penetration_limit_is_logged_as_expected(jammed, caplog):
+    """A ray that stops where the yarns would pass through each other is an expected event
+    (INFO, counted in the run's summary); another stop is a WARNING (issue 31: make demo
+    printed four 300-character warnings a user cannot act on)."""
+    rve = AnalyticRve(compression_limit=0.04)
+    case = next(c for c in CASES if c.load.kind == "biaxial" and c.load.angle_deg == 180.0)
+
+    def engine(case):
+        try:
+            return rve(case)
+        except ConvergenceError as error:
+            reason = f"refused ({PENETRATION_STOP})" if jammed else "no convergence"
+            raise ConvergenceError(reason, history=error.history) from None
+
+    with caplog.at_level(logging.INFO, logger="rve_rod.homogenize.generate"):
+        run = execute(engine, case)
+    assert not run.complete
+    (record,) = caplog.records
+    assert record.levelno == (logging.INFO if jammed else logging.WARNING)
+    assert record.getMessage().endswith("at the penetration limit" if jammed else "no convergence")
