@@ -3,6 +3,7 @@
     knitmech run [SCENE.toml] [--fidelity fast|balanced|accurate] [-o results] [--jobs N]
                  [--executor local|mpi] [--cache-dir DIR] [--json] [-q | -v]
     knitmech sweep SWEEP.toml [-o sweep] [--jobs N] [--executor local|mpi] [--cache-dir DIR]
+    knitmech design DESIGN.toml [-o design] [--fidelity LEVEL] [--jobs N] [--cache-dir DIR]
 
 Without a scene file it runs the built-in default scene (cotton 20s/2, stitch 5.5, the
 paper's 50 mm patch course- and wale-wise). Progress goes to stderr; the summary table (or,
@@ -18,6 +19,8 @@ import json
 import logging
 import sys
 
+from knitmech.design.run import run_design
+from knitmech.design.spec import load_design
 from knitmech.fidelity import LEVELS
 from knitmech.jobs.launch import StageError
 from knitmech.pipeline import run_scene
@@ -36,6 +39,7 @@ from rve_rod.outputs import check_output_folder, ignore_broken_pipe
 __all__ = [
     "PROGRAM",
     "build_parser",
+    "design_command",
     "main",
     "run_command",
     "sweep_command",
@@ -88,7 +92,36 @@ def build_parser() -> argparse.ArgumentParser:
     verbosity.add_argument("-v", "--verbose", action="store_true", help="solver details too")
     run.set_defaults(run=run_command)
     _add_sweep(subparsers)
+    _add_design(subparsers)
     return parser
+
+
+def _add_design(subparsers) -> None:
+    design = subparsers.add_parser(
+        "design",
+        help="design the knit that meets targets (stitch values per region or course band)",
+        description="Search the stitch values (and a sleeve's needles) whose response meets "
+        "the targets of a design file's [design] table; write the design, the knitting "
+        "instructions and target against achieved into a results folder (docs/design.md).",
+    )
+    design.add_argument("design", help="design file (TOML: a scene with a [design] table)")
+    design.add_argument("--fidelity", choices=tuple(LEVELS), help="override the scene's level")
+    design.add_argument("-o", "--output", default="design", help="results folder")
+    design.add_argument(
+        "--jobs",
+        type=int,
+        default=available_cores(),
+        help=f"worker processes for the RVE runs (default: all cores, {available_cores()})",
+    )
+    add_executor_argument(design)
+    design.add_argument(
+        "--cache-dir", help=f"stage and RVE-run cache (default {default_cache_root()})"
+    )
+    design.add_argument("--json", action="store_true", help="print design.json instead")
+    verbosity = design.add_mutually_exclusive_group()
+    verbosity.add_argument("-q", "--quiet", action="store_true", help="warnings only")
+    verbosity.add_argument("-v", "--verbose", action="store_true", help="solver details too")
+    design.set_defaults(run=design_command)
 
 
 def _add_sweep(subparsers) -> None:
@@ -180,6 +213,34 @@ def sweep_command(args: argparse.Namespace) -> int:
     print(result.table)
     print(f"results in {result.folder}/ ({SUMMARY_FILE}, summary.txt, one .h5 per knit)")
     return FAILED_EXIT_STATUS if result.failed else 0
+
+
+def design_command(args: argparse.Namespace) -> int:
+    """The `design` subcommand; returns the exit status (0 also when a target is missed: the
+    report says by how much, design.json has `met`)."""
+    _configure_logging(args)
+    check_output_folder("--output", args.output)
+    if args.cache_dir is not None:
+        check_output_folder("--cache-dir", args.cache_dir)
+    scene, design = load_design(args.design)
+    result = run_design(
+        scene,
+        design,
+        fidelity=args.fidelity,
+        output=args.output,
+        cache_dir=args.cache_dir,
+        jobs=args.jobs,
+        executor=args.executor,
+        progress=None if args.quiet else sys.stderr,
+    )
+    ignore_broken_pipe()
+    if args.json:
+        json.dump(result.summary, sys.stdout, indent=1)
+        sys.stdout.write("\n")
+    else:
+        print(result.table)
+        print(f"results in {result.folder}/ (design.json, design.txt, figures/design.png)")
+    return 0
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -97,13 +97,14 @@ class Solution(NamedTuple):
 class _Counted:
     """The residual function, counted and remembered by x, reporting progress."""
 
-    def __init__(self, residuals: Callable[[np.ndarray], np.ndarray], settings: SolverSettings):
-        self.residuals, self.settings = residuals, settings
+    def __init__(self, residuals, settings: SolverSettings, bounds: tuple[np.ndarray, np.ndarray]):
+        self.residuals, self.settings, self.bounds = residuals, settings, bounds
         self.seen: dict[bytes, np.ndarray] = {}
         self.best = np.inf
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
-        key = np.asarray(x, dtype=float).tobytes()
+        x = np.clip(np.asarray(x, dtype=float), *self.bounds)  # round-off beyond a bound
+        key = x.tobytes()
         if key not in self.seen:
             if len(self.seen) >= self.settings.max_evaluations:
                 raise _EvaluationsSpentError
@@ -162,7 +163,7 @@ def solve_least_squares(
                 f"design variable {variable.name!r}: bounds [{variable.lower:g}, "
                 f"{variable.upper:g}] {variable.unit} are empty"
             )
-    counted = _Counted(residuals, settings)
+    counted = _Counted(residuals, settings, (lower, upper))
     messages = []
     for box_lower, box_upper in boxes or [(lower, upper)]:
         start = initial if boxes is None else 0.5 * (box_lower + box_upper)

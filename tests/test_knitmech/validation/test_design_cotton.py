@@ -1,0 +1,79 @@
+"""`knitmech design` on the cotton 20s/2 family (fast level): the material-level inverse.
+
+The target curves are made from the family itself, so the expectation holds whatever the RVE
+model makes of the surfaces: the 6.0 member's own uniaxial curves return 6.0 (issue 30: within
+0.05 mm), and the mean of the 6.0 and 6.5 members' curves a stitch value between them.
+"""
+
+import json
+
+import numpy as np
+import pytest
+
+from knitmech.cli import main
+from knitmech.design.family import SurfaceFamily
+from knitmech.fidelity import fidelity_level
+from knitmech.scene import scene_from_dict
+from knitmech.stages import SurfaceRuns, plan_run
+from knitmech.stages.cache import StageCache
+from knitmech.stages.family import family_members
+from rve_rod.cache import ResultCache
+from rve_rod.homogenize.executors import ExecutorChoice
+
+STRAINS = (0.05, 0.1, 0.15, 0.2)
+
+
+@pytest.fixture(scope="module")
+def cotton(tmp_path_factory):
+    """(cache folder, the family at 5.5, 6.0, 6.5 mm at the fast level)."""
+    cache = tmp_path_factory.mktemp("design-cache")
+    folder = tmp_path_factory.mktemp("family")
+    scene = scene_from_dict({"fabric": {"preset": "cotton-20s2", "stitch": 5.5}})
+    plan = plan_run(scene, fidelity_level("fast"))
+    stages = StageCache(cache / "stages")
+    runs = SurfaceRuns(ResultCache(cache / "rve-runs"), ExecutorChoice("local", 2), None)
+    members = family_members(
+        plan, (5.5, 6.0, 6.5), lambda s: stages.run(s, folder).summary, runs, folder
+    )
+    return cache, SurfaceFamily(members)
+
+
+def design(tmp_path, cache, curves):
+    """Run `knitmech design` on target curves {direction: forces (N/mm) at STRAINS}."""
+    targets = "".join(
+        f'[[design.target]]\nkind = "uniaxial"\ndirection = "{direction}"\n'
+        f"strain = {list(STRAINS)}\nforce = {np.asarray(force).tolist()}\n"
+        for direction, force in curves.items()
+    )
+    path = tmp_path / "design.toml"
+    path.write_text(
+        'fidelity = "fast"\n[fabric]\npreset = "cotton-20s2"\nstitch = 5.5\n'
+        f"[design]\nbounds = [5.5, 6.5]\n{targets}"
+    )
+    output = tmp_path / "out"
+    status = main(["design", str(path), "-o", str(output), "--cache-dir", str(cache), "-q"])
+    assert status == 0
+    return json.loads((output / "design.json").read_text())
+
+
+@pytest.mark.slow
+def test_a_members_curves_return_its_stitch_value(tmp_path, cotton):
+    cache, family = cotton
+    curves = {d: family.uniaxial(6.0, np.array(STRAINS), d) for d in ("course", "wale")}
+    summary = design(tmp_path, cache, curves)
+    (stitch,) = summary["variables"]
+    assert stitch["value"] == pytest.approx(6.0, abs=0.05)
+    assert stitch["value"] == pytest.approx(6.0, abs=1e-6)  # a member is met exactly
+    assert summary["met"]
+    assert (tmp_path / "out" / "figures" / "design.png").is_file()
+
+
+@pytest.mark.slow
+def test_the_mean_of_two_members_curves_returns_a_value_between_them(tmp_path, cotton):
+    cache, family = cotton
+    curves = {
+        d: 0.5 * (family.uniaxial(6.0, np.array(STRAINS), d) + family.uniaxial(6.5, STRAINS, d))
+        for d in ("course", "wale")
+    }
+    (stitch,) = design(tmp_path, cache, curves)["variables"]
+    assert 6.0 + 1e-3 < stitch["value"] < 6.5 - 1e-3
