@@ -314,7 +314,8 @@ class PartProblem:
         low = comm.allreduce(values.min() if values.size else np.inf, op=MPI.MIN)
         high = comm.allreduce(values.max() if values.size else -np.inf, op=MPI.MAX)
         members = [value for value, _ in region.family]
-        if low < min(members) - 1e-12 or high > max(members) + 1e-12:
+        # the scene reader's tolerance (knitmech.scene.fabric: members within 1e-9 mm)
+        if low < min(members) - 1e-9 or high > max(members) + 1e-9:
             raise InputError(
                 f"region {region.name!r}: stitch values {low:.4g} ... {high:.4g} mm leave the "
                 f"family's range [{min(members):g}, {max(members):g}] mm"
