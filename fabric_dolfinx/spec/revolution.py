@@ -81,23 +81,30 @@ class RadiusProfile:
         """dr/dz (-) at axial positions z (any shape, mm)."""
         return self._evaluate(np.asarray(z, dtype=float), 1)
 
+    def curvature(self, z: np.ndarray) -> np.ndarray:
+        """The meridian's curvature -r'' / (1 + r'^2)^(3/2) (1/mm) at z: positive where the
+        body bulges (a calf), 0 beyond the table."""
+        z = np.asarray(z, dtype=float)
+        return -self._evaluate(z, 2) / (1.0 + self.slope(z) ** 2) ** 1.5
+
     def _evaluate(self, z: np.ndarray, derivative: int) -> np.ndarray:
         knots = np.asarray(self.z)
         pieces = self.pieces()
         index = np.clip(np.searchsorted(knots, z, side="right") - 1, 0, knots.size - 2)
         offset = z - knots[index]
         a = pieces[index.ravel()].reshape(*z.shape, 4)
-        if derivative == 0:
-            inside = a[..., 0] + offset * (a[..., 1] + offset * (a[..., 2] + offset * a[..., 3]))
-        else:
-            inside = a[..., 1] + offset * (2 * a[..., 2] + offset * 3 * a[..., 3])
         first, last = self.extent
         start, end = self.end_slopes()
         if derivative == 0:
+            inside = a[..., 0] + offset * (a[..., 1] + offset * (a[..., 2] + offset * a[..., 3]))
             below = self.r[0] + start * (z - first)
             above = self.r[-1] + end * (z - last)
-        else:
+        elif derivative == 1:
+            inside = a[..., 1] + offset * (2 * a[..., 2] + offset * 3 * a[..., 3])
             below, above = np.full(z.shape, start), np.full(z.shape, end)
+        else:
+            inside = 2 * a[..., 2] + 6 * a[..., 3] * offset
+            below = above = np.zeros(z.shape)
         return np.where(z < first, below, np.where(z > last, above, inside))
 
 

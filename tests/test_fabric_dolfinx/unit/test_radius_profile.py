@@ -28,6 +28,16 @@ def test_slope_is_the_derivative_and_continuous_at_the_points_and_beyond():
         np.testing.assert_allclose(LEG.slope(knot - 1e-9), LEG.slope(knot + 1e-9), atol=1e-7)
 
 
+def test_curvature_of_the_meridian():
+    z = np.array([30.0, 120.0, 280.0])
+    h = 1.0  # within one cubic piece the central difference is exact
+    second = (LEG.radius(z + h) - 2 * LEG.radius(z) + LEG.radius(z - h)) / h**2
+    expected = -second / (1 + LEG.slope(z) ** 2) ** 1.5
+    np.testing.assert_allclose(LEG.curvature(z), expected, rtol=1e-9)
+    assert LEG.curvature(280.0) > 0 > LEG.curvature(120.0)  # the calf bulges
+    assert LEG.curvature(500.0) == 0.0
+
+
 def test_beyond_the_table_the_radius_follows_the_end_tangents():
     start, end = LEG.end_slopes()
     assert LEG.radius(-10.0) == pytest.approx(35.0 - 10.0 * start, rel=1e-14)
