@@ -63,7 +63,9 @@ def plot_sleeve(sleeve: SleeveSpec, wanted: tuple, bands: Sequence[dict], path: 
     )
     pressure_axes.plot(*wanted, "k-", label="target")
     achieved = [row["achieved"] for row in bands]
-    pressure_axes.stairs(achieved, sleeve.edges, color="C0", label="designed (Laplace model)")
+    pressure_axes.stairs(
+        achieved, sleeve.edges, baseline=None, color="C0", label="designed (Laplace model)"
+    )
     contact = [row.get("contact") for row in bands]
     if any(value is not None for value in contact):
         pressure_axes.plot(sleeve.centres, contact, "s", color="C3", label="contact model")

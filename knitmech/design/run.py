@@ -38,14 +38,16 @@ from fabric_dolfinx.spec.expression import piecewise_linear
 from knitmech.design.family import FamilyMember, SurfaceFamily
 from knitmech.design.material import fit_stitch
 from knitmech.design.plot import plot_material, plot_part, plot_sleeve
-from knitmech.design.sleeve import PressureTarget, design_sleeve
+from knitmech.design.sleeve import PressureTarget, design_sleeve, stretched_band
 from knitmech.design.solve import Variable, solve_least_squares
 from knitmech.design.spec import PRESSURE_UNITS, PROBE_QUANTITIES, DesignSpec, VariableSpec
 from knitmech.fidelity import fidelity_level
+from knitmech.jobs.launch import run_job
+from knitmech.jobs.sleeve_spec import SleeveJob
 from knitmech.pipeline import check_plan, run_scene
 from knitmech.scene import Scene, scene_from_dict
-from knitmech.stages import RunPlan, SurfaceRuns, plan_run
-from knitmech.stages.cache import StageCache
+from knitmech.stages import STAGE_VERSION, RunPlan, SurfaceRuns, file_digest, plan_run
+from knitmech.stages.cache import Stage, StageCache
 from knitmech.stages.family import family_members, family_stitches
 from rve_rod import __version__
 from rve_rod.cache import ResultCache, default_cache_root
@@ -67,6 +69,9 @@ DESIGN_FILE = "design.json"
 FIGURE = "figures/design.png"
 EVALUATIONS = ".design-evaluations"
 """Folder of a part design's evaluations inside the results folder (removed at the end)."""
+CONTACT_ELEMENT_SIZE = {"fast": 5.0, "balanced": 2.5, "accurate": 1.25}
+"""The contact model's quadrilateral edge (mm) per fidelity level (docs/design.md: the
+pressure's error against the closed form on a cylinder, +3.2, +0.7, +0.1 %)."""
 
 
 class DesignResult(NamedTuple):
@@ -131,6 +136,16 @@ def run_design(  # noqa: PLR0913 (the design and the keyword options of `knitmec
             outcome = _design_material(family, design, folder)
         else:
             outcome = _design_sleeve(family, design, folder)
+            if design.sleeve.contact:
+                size = design.sleeve.element_size or CONTACT_ELEMENT_SIZE[plan.fidelity.name]
+                job = contact_job(family, design, outcome.instructions, size)
+                stage = contact_stage(job, plan.scene.macro.ranks)
+                contact = stages.run(stage, folder).summary
+                outcome = _with_contact(outcome, family, design, contact)
+            (folder / "figures").mkdir(exist_ok=True)
+            z = np.linspace(*design.sleeve.limb.extent, 201)
+            wanted = design.targets[0].pressure_at(z) / PRESSURE_UNITS[design.targets[0].unit]
+            plot_sleeve(design.sleeve, (z, wanted), outcome.targets, folder / FIGURE)
     met = all(target["met"] for target in outcome.targets)
     summary = to_jsonable(
         {
@@ -277,9 +292,6 @@ def _design_sleeve(family: SurfaceFamily, design: DesignSpec, folder: Path) -> _
             "bands %s are strained beyond the family's data (their pressure is extrapolated)",
             ", ".join(map(str, outside)),
         )
-    (folder / "figures").mkdir(exist_ok=True)
-    z = np.linspace(*sleeve.limb.extent, 201)
-    plot_sleeve(sleeve, (z, spec.pressure_at(z) / unit), targets, folder / FIGURE)
     extra = {
         **_family_record(family),
         "sleeve": {
@@ -300,6 +312,80 @@ def _design_sleeve(family: SurfaceFamily, design: DesignSpec, folder: Path) -> _
         result.message,
         extra,
     )
+
+
+def contact_job(
+    family: SurfaceFamily, design: DesignSpec, bands: list[dict], element_size: float
+) -> SleeveJob:
+    """The contact model of the designed sleeve (`bands`: its instructions), with the
+    members its stitch values need (the fewer, the faster FFCx compiles the law)."""
+    stitches = [row["stitch"] for row in bands]
+    values = family.stitch_values
+    first = max(i for i, v in enumerate(values) if v <= min(stitches) + 1e-9)
+    last = min(i for i, v in enumerate(values) if v >= max(stitches) - 1e-9)
+    limb = design.sleeve.limb
+    return SleeveJob(
+        members=family.members[first : last + 1],
+        limb=tuple(zip(limb.z, limb.r, strict=True)),
+        stitches=tuple(stitches),
+        needles=tuple(float(row["needles"]) for row in bands),
+        courses=tuple(float(row["courses"]) for row in bands),
+        element_size=element_size,
+    )
+
+
+def contact_stage(job: SleeveJob, ranks: int) -> Stage:
+    """The stage of the sleeve's contact model; its key holds the surfaces by content."""
+    data = job.to_json()
+    for member in data["members"]:
+        member["path"] = file_digest(Path(member["path"]))
+    inputs = {"version": STAGE_VERSION, "job": data}
+
+    def compute(folder: Path) -> dict:
+        return run_job("sleeve", job.to_json(), folder, ranks, label="sleeve contact model")
+
+    return Stage("sleeve", "contact", inputs, compute)
+
+
+def _with_contact(
+    outcome: _Outcome, family: SurfaceFamily, design: DesignSpec, contact: dict
+) -> _Outcome:
+    """The sleeve design's outcome with the contact model beside the Laplace model: per band
+    its pressure, hoop tension, stretches, and the Laplace model at its stretches."""
+    unit = PRESSURE_UNITS[design.targets[0].unit]
+    rows = []
+    for target, band, ring in zip(
+        outcome.targets, outcome.instructions, contact["bands"], strict=True
+    ):
+        at_stretches = stretched_band(
+            family,
+            ring["stitch"],
+            (ring["hoop_stretch"], ring["axial_stretch"]),
+            ring["limb_radius"],
+        )
+        target["contact"] = ring["pressure"] / unit
+        rows.append(
+            {
+                "band": band["band"],
+                "z": ring["z"],
+                "laplace": band["pressure_mmHg"] * MMHG,
+                "contact": ring["pressure"],
+                "difference": ring["pressure"] / (band["pressure_mmHg"] * MMHG) - 1.0,
+                "laplace_tension": band["tension"],
+                "contact_tension": ring["hoop_tension"],
+                "axial_tension": ring["axial_tension"],
+                "hoop_stretch": ring["hoop_stretch"],
+                "axial_stretch": ring["axial_stretch"],
+                "designed_hoop_stretch": 1.0 + band["hoop_strain"],
+                "designed_axial_stretch": band["axial_stretch"],
+                "laplace_at_contact_stretches": at_stretches.pressure,
+                "membrane_pressure": ring["membrane_pressure"],
+                "curvature_term": ring["membrane_pressure"] - ring["laplace_term"],
+            }
+        )
+    summary = {key: contact[key] for key in contact if key != "bands"}
+    extra = {**outcome.extra, "contact": {**summary, "bands": rows}}
+    return outcome._replace(extra=extra)
 
 
 def stitch_expression(variable: VariableSpec, values: np.ndarray) -> str:
@@ -434,6 +520,30 @@ def _design_part(
     )
 
 
+def contact_table(contact: dict, unit: str) -> list[str]:
+    """The printed lines of the contact model beside the Laplace model (pressures in
+    `unit`): per band both pressures, their difference, the stretches of both, the Laplace
+    model at the contact model's stretches and the meridional term N_phi kappa."""
+    scale = PRESSURE_UNITS[unit]
+    state = "" if contact["complete"] else f" INCOMPLETE: {contact['message']}"
+    lines = [
+        f"  contact model: {contact['dofs']} DOFs, {contact['cells']} cells, "
+        f"{len(contact['newton_iterations'])} steps, {contact['wall_time_s']:.3g} s{state}",
+        f"  {'band':<5}{'z':>6}{'Laplace':>9}{'contact':>9}{'diff':>8}{'hoop L/c':>16}"
+        f"{'axial L/c':>16}{'L at c':>9}{'N_phi k':>9}",
+    ]
+    for row in contact["bands"]:
+        lines.append(
+            f"  {row['band']:<5}{row['z']:>6.0f}{row['laplace'] / scale:>9.3f}"
+            f"{row['contact'] / scale:>9.3f}{100 * row['difference']:>7.1f}%"
+            f"{row['designed_hoop_stretch']:>8.4f}{row['hoop_stretch']:>8.4f}"
+            f"{row['designed_axial_stretch']:>8.4f}{row['axial_stretch']:>8.4f}"
+            f"{row['laplace_at_contact_stretches'] / scale:>9.3f}"
+            f"{row['curvature_term'] / scale:>9.3f}"
+        )
+    return lines
+
+
 def design_table(summary: dict) -> str:
     """The printed report of a design's summary (design.json)."""
     kind = summary["kind"]
@@ -462,7 +572,7 @@ def design_table(summary: dict) -> str:
             lines.append("  * strained beyond the family's data: its pressure is extrapolated")
         contact = summary.get("contact")
         if contact:
-            lines.append(contact["table"])
+            lines += contact_table(contact, unit)
         return "\n".join(lines)
     lines.append(f"  {'variable':<34}{'value':>10}  {'bounds':<14}")
     for variable in summary["variables"]:

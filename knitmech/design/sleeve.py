@@ -7,9 +7,13 @@ at rest a tube of circumference N_k w(s_k) and length n_k c(s_k) (w, c the famil
 and course height, `knitmech.design.family`). Worn, the course runs around the limb (axis 1 =
 hoop) and the wales along it (axis 2 = axial), with the stretches at the band's centre z_k
 
-    lambda_1 = 2 pi r(z_k) / (N_k w(s_k)),     lambda_2 = L_k / (n_k c(s_k)),
+    lambda_1 = 2 pi r(z_k) / (N_k w(s_k)),     lambda_2 = L / sum_j n_j c(s_j),
 
-L_k the band's length on the limb. The band's membrane law at E = (lambda^2 - 1) / 2 gives
+L the sleeve's length on the limb: the axial stretch is the sleeve's worn over its knitted
+length, the same in every band (a band's own courses fix where it sits, not its stretch: on
+the frictionless limb of the contact model the sleeve's axial force evens its axial stretch,
+docs/design.md). The designed courses make it `SleeveSpec.axial_stretch`. The band's
+membrane law at E = (lambda^2 - 1) / 2 gives
 S11 (N/mm per undeformed width), the hoop tension per worn length T = lambda_1 S11 / lambda_2
 (the Cauchy membrane force sigma_11) and Laplace's law the interface pressure
 
@@ -32,6 +36,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from fabric_dolfinx.spec.expression import piecewise_linear
 from fabric_dolfinx.spec.revolution import RadiusProfile
 from knitmech.design.family import SurfaceFamily
 from knitmech.design.solve import SolverSettings, Variable, solve_least_squares
@@ -40,11 +45,14 @@ from rve_rod.errors import InputError, check_integer, check_positive
 __all__ = [
     "BandState",
     "PressureTarget",
+    "RelaxedTube",
     "SleeveDesign",
     "SleeveSpec",
     "band_state",
     "design_sleeve",
     "laplace_pressure",
+    "relaxed_tube",
+    "stretched_band",
 ]
 
 
@@ -56,10 +64,13 @@ class SleeveSpec:
         limb: the limb's radius profile; the sleeve covers its table's extent.
         bands: course bands of equal length on the limb.
         needles: the needle count of every band, or None when the needles are designed.
-        axial_stretch: the worn length over the knitted length of every band (-): the
-            courses of a band are its limb length / (axial_stretch c(s)).
+        axial_stretch: the sleeve's worn length over its knitted length (-): the courses
+            of a band are its limb length / (axial_stretch c(s)).
         hoop_strain: when the needles are designed, the hoop strain lambda_1 - 1 they aim
             at (a target of the design beside the pressure).
+        contact: whether the design is verified by the contact model (`knitmech.jobs.sleeve`).
+        element_size: the contact model's quadrilateral edge (mm); None: the fidelity
+            level's (CONTACT_ELEMENT_SIZE).
     """
 
     limb: RadiusProfile
@@ -67,11 +78,15 @@ class SleeveSpec:
     needles: tuple[float, ...] | None = None
     axial_stretch: float = 1.0
     hoop_strain: float = 0.15
+    contact: bool = True
+    element_size: float | None = None
 
     def __post_init__(self):
         check_integer("sleeve.bands", self.bands, 1, 200)
         check_positive("sleeve.axial_stretch", self.axial_stretch)
         check_positive("sleeve.hoop_strain", self.hoop_strain)
+        if self.element_size is not None:
+            check_positive("sleeve.element_size", self.element_size, "mm")
         if self.needles is not None:
             if len(self.needles) != self.bands:
                 raise InputError(
@@ -122,16 +137,21 @@ class BandState(NamedTuple):
 
 
 def band_state(
-    family: SurfaceFamily,
-    radius: float,
-    length: float,
-    knit: tuple[float, float, float],
+    family: SurfaceFamily, radius: float, knit: tuple[float, float], axial: float
 ) -> BandState:
-    """A band of `knit` = (stitch s (mm), needles N, courses n) worn on a limb of `radius`
-    over `length` (mm): the stretches, strain, hoop tension and Laplace pressure."""
-    stitch, needles, courses = knit
+    """A band of `knit` = (stitch s (mm), needles N) worn on a limb of `radius` (mm) with
+    the axial stretch `axial`: the stretches, strain, hoop tension and Laplace pressure."""
+    stitch, needles = knit
     hoop = 2.0 * np.pi * radius / (needles * family.wale_width(stitch))
-    axial = length / (courses * family.course_height(stitch))
+    return stretched_band(family, stitch, (hoop, axial), radius)
+
+
+def stretched_band(
+    family: SurfaceFamily, stitch: float, stretches: tuple[float, float], radius: float
+) -> BandState:
+    """The Laplace model of a band at `stitch` (mm) with the stretches (hoop, axial) on a
+    limb of `radius` (mm): T = lambda_1 S11 / lambda_2, p = T / r."""
+    hoop, axial = stretches
     strain = np.array([0.5 * (hoop**2 - 1.0), 0.5 * (axial**2 - 1.0), 0.0])
     evaluated = family.law(stitch).stress(strain)
     tension = hoop * float(evaluated.S[0, 0]) / axial
@@ -146,13 +166,16 @@ def laplace_pressure(
     courses: np.ndarray | None = None,
 ) -> list[BandState]:
     """Every band's state at its centre for `stitches` (bands,) mm and `needles` (bands,);
-    `courses` (bands,) default: the axial stretch's (`SleeveSpec.courses`, not rounded)."""
+    the axial stretch the sleeve's worn over its knitted length, L / sum_k n_k c(s_k) with
+    `courses` (bands,) n_k, or without them the design's `SleeveSpec.axial_stretch`."""
     radii = sleeve.limb.radius(sleeve.centres)
-    if courses is None:
-        courses = [sleeve.courses(family, s) for s in stitches]
+    axial = sleeve.axial_stretch
+    if courses is not None:
+        knitted = sum(n * family.course_height(s) for n, s in zip(courses, stitches, strict=True))
+        axial = sleeve.band_length * sleeve.bands / knitted
     return [
-        band_state(family, float(r), sleeve.band_length, (float(s), float(n), float(c)))
-        for r, s, n, c in zip(radii, stitches, needles, courses, strict=True)
+        band_state(family, float(r), (float(s), float(n)), axial)
+        for r, s, n in zip(radii, stitches, needles, strict=True)
     ]
 
 
@@ -267,9 +290,8 @@ def design_sleeve(
     whole_needles = np.round(needles)
     courses = np.round([sleeve.courses(family, s) for s in stitches])
     start = [v._replace(initial=float(s)) for v, s in zip(stitch_variables, stitches, strict=True)]
-    second = solve_least_squares(
-        lambda x: residuals(x, whole_needles, courses), start, settings, sparsity=diagonal
-    )
+    # with whole courses the axial stretch is the whole sleeve's: every band moves it
+    second = solve_least_squares(lambda x: residuals(x, whole_needles, courses), start, settings)
     states = laplace_pressure(family, sleeve, second.x, whole_needles, courses)
     pressure = np.array([state.pressure for state in states])
     misses = (pressure - target.pressure) / target.pressure
@@ -285,3 +307,42 @@ def design_sleeve(
         search_time_s=first.wall_time_s + second.wall_time_s,
         message="; ".join(dict.fromkeys((first.message, second.message))),
     )
+
+
+class RelaxedTube(NamedTuple):
+    """A knitted sleeve at rest, its course bands one after the other along z from `start`.
+
+    Attributes:
+        edges: (bands + 1,) the bands' ends (mm): band k is n_k c(s_k) long.
+        centres: (bands,) their centres (mm).
+        stitch: the stitch field along z, an expression of z (`piecewise_linear`): s_k at
+            band k's centre, linear between centres, constant beyond.
+        radius: z (any shape, mm) -> the radius N(z) w(s(z)) / 2 pi (mm) with N(z) linear
+            between the centres alike.
+    """
+
+    edges: np.ndarray
+    centres: np.ndarray
+    stitch: str
+    radius: object
+
+
+def relaxed_tube(
+    family: SurfaceFamily, start: float, knit: tuple[np.ndarray, np.ndarray, np.ndarray]
+) -> RelaxedTube:
+    """The sleeve of `knit` = (stitches (bands,) mm, needles (bands,), courses (bands,)) at
+    rest, from z = `start` (mm). The contact model's reference surface: a band's stitch and
+    needles change linearly to its neighbours' between their centres (so the surface is
+    smooth), and at every band centre the tube is that band's knit."""
+    stitches, needles, courses = (np.asarray(v, dtype=float) for v in knit)
+    lengths = courses * np.array([family.course_height(s) for s in stitches])
+    edges = start + np.concatenate([[0.0], np.cumsum(lengths)])
+    centres = 0.5 * (edges[:-1] + edges[1:])
+    stitch = piecewise_linear("z", centres, stitches)
+
+    def radius(z):
+        s = np.interp(z, centres, stitches)
+        widths = np.vectorize(family.wale_width)(s)
+        return np.interp(z, centres, needles) * widths / (2.0 * np.pi)
+
+    return RelaxedTube(edges, centres, stitch, radius)

@@ -117,11 +117,13 @@ class _Counted:
             cost = 0.5 * float(values @ values)
             if cost < self.best:
                 self.best = cost
+                shown = ", ".join(f"{value:.5g}" for value in x[:6])
                 logger.info(
-                    "design: evaluation %d, cost %.4g at %s",
+                    "design: evaluation %d, cost %.4g at (%s%s)",
                     len(self.seen),
                     cost,
-                    np.array2string(np.asarray(x), precision=5, separator=", "),
+                    shown,
+                    ", ..." if x.size > 6 else "",
                 )
         return self.seen[key]
 

@@ -567,7 +567,7 @@ def _pressure(prefix, table, common, context, problems) -> TargetSpec | None:
 
 
 def _sleeve(table: dict, base, problems: list[str]) -> SleeveSpec | None:
-    keys = ("limb", "bands", "needles", "axial_stretch", "hoop_strain")
+    keys = ("limb", "bands", "needles", "axial_stretch", "hoop_strain", "contact", "element_size")
     check_keys("sleeve", table, keys, problems)
     count = len(problems)
     limb = table.get("limb")
@@ -599,9 +599,13 @@ def _sleeve(table: dict, base, problems: list[str]) -> SleeveSpec | None:
     else:
         problems.append(f'sleeve.needles: {needles!r} is not "design", a count > 0 or one per band')
     values = {}
-    for key in ("axial_stretch", "hoop_strain"):
+    for key in ("axial_stretch", "hoop_strain", "element_size"):
         if key in table:
-            values[key] = number(f"sleeve.{key}", table[key], problems, 0.0, 10.0)
+            values[key] = number(f"sleeve.{key}", table[key], problems, 0.0, 100.0)
+    if "contact" in table:
+        if not isinstance(table["contact"], bool):
+            problems.append(f"sleeve.contact: expected true or false, got {table['contact']!r}")
+        values["contact"] = table["contact"]
     if len(problems) > count:
         return None
     try:

@@ -19,24 +19,26 @@ STITCHES = (4.5, 5.0, 5.5, 6.0, 6.5, 7.0)
 """The cotton 20s/2 preset's stitch values (mm)."""
 
 
-def member_law(stitch: float):
-    """The analytic law of the member at `stitch` (mm): course stiffness ~ s^-3, wale ~ s^-2."""
+def member_law(stitch: float, wale_factor: float = 1.0):
+    """The analytic law of the member at `stitch` (mm): course stiffness ~ s^-3, wale ~ s^-2,
+    the wale stiffness times `wale_factor`."""
     ratio = 5.5 / stitch
     return replace(
         COTTON_LIKE_LAW,
         course_stiffness=COTTON_LIKE_LAW.course_stiffness * ratio**3,
-        wale_stiffness=COTTON_LIKE_LAW.wale_stiffness * ratio**2,
+        wale_stiffness=COTTON_LIKE_LAW.wale_stiffness * ratio**2 * wale_factor,
         coupling_11_22=COTTON_LIKE_LAW.coupling_11_22 * ratio**2,
         coupling_22_11=COTTON_LIKE_LAW.coupling_22_11 * ratio**2,
     )
 
 
-def synthetic_family(stitches=STITCHES, folder=None) -> SurfaceFamily:
-    """The family at `stitches` (mm); with `folder`, each member's surface is written there
-    (`<stitch>.h5`) and named by its path."""
+def synthetic_family(stitches=STITCHES, folder=None, wale_factor: float = 1.0) -> SurfaceFamily:
+    """The family at `stitches` (mm), wale stiffness times `wale_factor`; with `folder`, each
+    member's surface is written there (`<stitch>.h5`) and named by its path."""
     members, surfaces = [], []
     for stitch in stitches:
-        surface = synthetic_surface(member_law(stitch), spans=8, normal_domain=(-0.15, 0.4))
+        law = member_law(stitch, wale_factor)
+        surface = synthetic_surface(law, spans=8, normal_domain=(-0.15, 0.4))
         knit = load_preset("cotton-20s2", stitch).knit
         path = ""
         if folder is not None:
