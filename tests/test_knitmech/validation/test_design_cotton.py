@@ -1,4 +1,5 @@
-"""`knitmech design` on the cotton 20s/2 family (fast level): the material-level inverse.
+"""`knitmech design` on the cotton 20s/2 family (fast level): the material-level inverse and a
+sleeve.
 
 The target curves are made from the family itself, so the expectation holds whatever the RVE
 model makes of the surfaces: the 6.0 member's own uniaxial curves return 6.0 (issue 30: within
@@ -6,9 +7,11 @@ model makes of the surfaces: the 6.0 member's own uniaxial curves return 6.0 (is
 """
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
+from pins import assert_pinned
 
 from knitmech.cli import main
 from knitmech.design.family import SurfaceFamily
@@ -21,6 +24,7 @@ from rve_rod.cache import ResultCache
 from rve_rod.homogenize.executors import ExecutorChoice
 
 STRAINS = (0.05, 0.1, 0.15, 0.2)
+EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "design"
 
 
 @pytest.fixture(scope="module")
@@ -77,3 +81,39 @@ def test_the_mean_of_two_members_curves_returns_a_value_between_them(tmp_path, c
     }
     (stitch,) = design(tmp_path, cache, curves)["variables"]
     assert 6.0 + 1e-3 < stitch["value"] < 6.5 - 1e-3
+
+
+@pytest.mark.slow
+def test_a_sleeve_of_the_cotton_family_meets_its_graduated_target(tmp_path, cotton):
+    """The leg sleeve of examples/design/leg.csv in 4 bands within the fixture's members
+    (stitch 5.5 ... 6.5 reaches 1.5 mmHg at the ankle at 15 % hoop strain): every band within
+    5 % of 1.5 -> 1.0 mmHg (Laplace model), whole needles and courses; the stitch values and
+    the material design above are pinned (tests/pins.py, DESIGN_FAST)."""
+    cache, _ = cotton
+    path = tmp_path / "sleeve.toml"
+    path.write_text(
+        'fidelity = "fast"\n[fabric]\npreset = "cotton-20s2"\nstitch = 5.5\n'
+        f'[sleeve]\nlimb = "{EXAMPLES / "leg.csv"}"\nbands = 4\ncontact = false\n'
+        "[design]\nbounds = [5.5, 6.5]\n"
+        '[[design.target]]\nkind = "pressure"\nprofile = [[0.0, 1.5], [400.0, 1.0]]\n'
+    )
+    output = tmp_path / "out"
+    assert main(["design", str(path), "-o", str(output), "--cache-dir", str(cache), "-q"]) == 0
+    summary = json.loads((output / "design.json").read_text())
+    assert summary["met"]
+    for target in summary["targets"]:
+        assert abs(target["achieved"] / target["target"] - 1.0) <= 0.05
+    stitches = [row["stitch"] for row in summary["instructions"]]
+    assert all(5.5 <= s <= 6.5 for s in stitches)
+    assert_pinned("DESIGN_FAST", {f"sleeve band {k + 1} stitch": s for k, s in enumerate(stitches)})
+
+
+@pytest.mark.slow
+def test_the_material_design_of_the_mean_curves_is_pinned(tmp_path, cotton):
+    cache, family = cotton
+    curves = {
+        d: 0.5 * (family.uniaxial(6.0, np.array(STRAINS), d) + family.uniaxial(6.5, STRAINS, d))
+        for d in ("course", "wale")
+    }
+    (stitch,) = design(tmp_path, cache, curves)["variables"]
+    assert_pinned("DESIGN_FAST", {"material stitch of the mean of 6.0 and 6.5": stitch["value"]})
