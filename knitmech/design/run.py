@@ -411,9 +411,11 @@ def _variables(design: DesignSpec, family_range: tuple[float, float]) -> list[Va
     return variables
 
 
-def designed_scene(design: DesignSpec, scene: Scene, x: np.ndarray, evaluation: bool) -> Scene:
-    """The scene with the designed regions' stitch values at `x` (an evaluation's scene has
-    no meso runs: only its part is needed)."""
+def designed_scene(design: DesignSpec, scene: Scene, x: np.ndarray) -> Scene:
+    """The scene with the designed regions' stitch values at `x`, without meso runs (only
+    its part is needed). Each designed region is graded over the members its values need
+    (`knitmech.scene.fabric`): the fewer, the faster FFCx compiles its law, once per
+    combination of member intervals the search visits."""
     data = copy.deepcopy(design.scene_data)
     if "region" not in data:
         data["region"] = [{"name": region.name} for region in scene.part.regions]
@@ -423,8 +425,7 @@ def designed_scene(design: DesignSpec, scene: Scene, x: np.ndarray, evaluation: 
         count = 1 if spec.axis is None else len(spec.stations)
         regions[spec.region]["stitch"] = stitch_expression(spec, x[position : position + count])
         position += count
-    if evaluation:
-        data.setdefault("meso", {})["cases"] = []
+    data.setdefault("meso", {})["cases"] = []
     base = Path(design.base) if design.base is not None else None
     return scene_from_dict(data, source=f"{scene.name!r} (designed)", base=base)
 
@@ -456,7 +457,7 @@ def _design_part(
         output = work / str(count[0])
         work.mkdir(exist_ok=True)
         run = run_scene(
-            designed_scene(design, scene, x, evaluation=True),
+            designed_scene(design, scene, x),
             fidelity=fidelity,
             output=output,
             **options,
@@ -474,7 +475,7 @@ def _design_part(
     evaluate.values = {}
     solution = solve_least_squares(evaluate, variables, design.settings)
     shutil.rmtree(work, ignore_errors=True)
-    best = designed_scene(design, scene, solution.x, evaluation=False)
+    best = designed_scene(design, scene, solution.x)
     run_scene(best, fidelity=fidelity, output=folder, **options)
     (folder / "designed_scene.toml").write_text(
         f"# {scene.name}: the designed stitch values (knitmech design, {preset})\n" + best.to_toml()

@@ -250,6 +250,9 @@ def _read_design(
         _variable(i, t, family, part, problems)
         for i, t in enumerate(_tables("design.variable", table, problems))
     )
+    named = [v.region for v in variables if v is not None]
+    for region in sorted({name for name in named if named.count(name) > 1}):
+        problems.append(f"design.variable: the region {region!r} is designed twice")
     if kind == "part" and not variables:
         problems.append(
             "design.variable: no variables to design; add [[design.variable]] with the "

@@ -3,11 +3,12 @@ naming its key (issue 30: no variables, a target on an unknown boundary, bounds 
 family, ...), and `knitmech design` exits with status 2 writing nothing."""
 
 import copy
+from pathlib import Path
 
 import pytest
 
 from knitmech.cli import main
-from knitmech.design.spec import design_from_dict
+from knitmech.design.spec import design_from_dict, load_design
 from knitmech.scene import SceneError
 from rve_rod.units import MMHG
 
@@ -127,3 +128,13 @@ def test_knitmech_design_exits_2_and_writes_nothing(tmp_path, capsys):
     assert status == 2
     assert "design.target: no targets" in capsys.readouterr().err
     assert not (tmp_path / "out").exists() and not (tmp_path / "c").exists()
+
+
+EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "design"
+
+
+@pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.toml")), ids=lambda p: p.stem)
+def test_every_example_design_reads(path):
+    _, design = load_design(path)
+    assert design.targets
+    assert design.kind in ("material", "part", "sleeve")

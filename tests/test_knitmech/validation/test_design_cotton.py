@@ -1,5 +1,5 @@
-"""`knitmech design` on the cotton 20s/2 family (fast level): the material-level inverse and a
-sleeve.
+"""`knitmech design` on the cotton 20s/2 family (fast level): the material-level inverse, a
+sleeve and a part.
 
 The target curves are made from the family itself, so the expectation holds whatever the RVE
 model makes of the surfaces: the 6.0 member's own uniaxial curves return 6.0 (issue 30: within
@@ -15,7 +15,10 @@ from pins import assert_pinned
 
 from knitmech.cli import main
 from knitmech.design.family import SurfaceFamily
+from knitmech.design.run import designed_scene
+from knitmech.design.spec import load_design
 from knitmech.fidelity import fidelity_level
+from knitmech.pipeline import run_scene
 from knitmech.scene import scene_from_dict
 from knitmech.stages import SurfaceRuns, plan_run
 from knitmech.stages.cache import StageCache
@@ -117,3 +120,69 @@ def test_the_material_design_of_the_mean_curves_is_pinned(tmp_path, cotton):
     }
     (stitch,) = design(tmp_path, cache, curves)["variables"]
     assert_pinned("DESIGN_FAST", {"material stitch of the mean of 6.0 and 6.5": stitch["value"]})
+
+
+STRIP = """
+name = "strip design"
+fidelity = "fast"
+[fabric]
+preset = "cotton-20s2"
+stitch = 5.5
+[fabric.shape]
+kind = "rectangle"
+width = 50.0
+height = 100.0
+[meso]
+cases = []
+[surface]
+path = "{surface}"
+[macro]
+steps = 4
+[[region]]
+name = "fabric"
+angle = 90.0
+[[boundary]]
+name = "bottom"
+kind = "clamp"
+[[boundary]]
+name = "top"
+kind = "displacement"
+displacement = [0.0, 10.0]
+[design]
+[[design.variable]]
+region = "fabric"
+bounds = [5.5, 6.0]
+[[design.target]]
+kind = "force"
+boundary = "top"
+value = {force!r}
+"""
+
+
+@pytest.mark.slow
+def test_a_part_design_recovers_the_stitch_value_its_target_was_made_at(tmp_path, cotton, capsys):
+    """A strip's top force made by the forward model at stitch 5.8 (one run of the designed
+    scene): the design finds 5.8 again; run again, every evaluation comes from the stage
+    cache and the design is the same."""
+    cache, _ = cotton
+    surface = cotton[1].members[0].path  # the 5.5 member, as the design's own family makes it
+    path = tmp_path / "strip.toml"
+    path.write_text(STRIP.format(surface=surface, force=1.0))
+    scene, spec = load_design(path)
+    forward = run_scene(
+        designed_scene(spec, scene, np.array([5.8])), output=tmp_path / "fwd", cache_dir=cache
+    )
+    force = forward.summary["part"]["boundaries"]["top"]["force"][-1][1]
+    path.write_text(STRIP.format(surface=surface, force=force))
+    arguments = ["design", str(path), "-o", str(tmp_path / "out"), "--cache-dir", str(cache)]
+    assert main(arguments) == 0
+    summary = json.loads((tmp_path / "out" / "design.json").read_text())
+    assert summary["variables"][0]["value"] == pytest.approx(5.8, abs=1e-4)
+    assert summary["met"] and (tmp_path / "out" / "designed_scene.toml").is_file()
+    assert (tmp_path / "out" / "summary.json").is_file()  # the designed scene's run
+    assert "fabric: computing" in capsys.readouterr().err
+    assert main([*arguments, "-o", str(tmp_path / "again")]) == 0
+    assert "fabric: computing" not in capsys.readouterr().err
+    again = json.loads((tmp_path / "again" / "design.json").read_text())
+    assert again["variables"] == summary["variables"]
+    assert again["evaluations"] == summary["evaluations"]
