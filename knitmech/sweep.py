@@ -28,17 +28,15 @@ import json
 import logging
 import math
 import time
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import NamedTuple, TextIO
 
 from knitmech.fidelity import LEVELS, fidelity_level
 from knitmech.scene import Scene, SceneError, scene_from_dict
-from knitmech.scene.keys import unknown_key
+from knitmech.scene.keys import read_toml, unknown_key
 from knitmech.stages import RunPlan, plan_run
 from rve_rod.cache import ResultCache, default_cache_root
-from rve_rod.errors import InputError
 from rve_rod.homogenize.executors import ExecutorChoice
 from rve_rod.homogenize.generate import (
     GenerationError,
@@ -163,13 +161,7 @@ class SweepResult(NamedTuple):
 def load_sweep(path: str | Path) -> Sweep:
     """Read and check a sweep file (see the module docstring)."""
     path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as error:
-        raise InputError(f"sweep file {path}: cannot be read ({error.strerror})") from None
-    except tomllib.TOMLDecodeError as error:
-        raise InputError(f"sweep file {path}: not valid TOML ({error})") from None
-    return sweep_from_dict(data, source=str(path))
+    return sweep_from_dict(read_toml(path, "sweep file"), source=str(path))
 
 
 def sweep_from_dict(data: dict, source: str = "<dict>") -> Sweep:

@@ -40,7 +40,6 @@ scene (`SceneError`). docs/design.md describes every key.
 """
 
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -51,7 +50,7 @@ from knitmech.design.material import CURVE_COLUMNS, FORCE_UNITS, UniaxialTarget,
 from knitmech.design.sleeve import SleeveSpec
 from knitmech.design.solve import SolverSettings
 from knitmech.scene import Scene, SceneError, scene_from_dict
-from knitmech.scene.keys import check_keys, number
+from knitmech.scene.keys import check_keys, number, read_toml
 from rve_rod.errors import InputError
 from rve_rod.presets import stitch_values
 from rve_rod.units import KPA, MMHG
@@ -192,13 +191,7 @@ def load_design(path: str | Path) -> tuple[Scene, DesignSpec]:
     """Read and check a design file: its scene and its design (SceneError listing every
     problem of both)."""
     path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as error:
-        raise InputError(f"design file {path}: cannot be read ({error.strerror})") from None
-    except tomllib.TOMLDecodeError as error:
-        raise InputError(f"design file {path}: not valid TOML ({error})") from None
-    return design_from_dict(data, source=str(path), base=path.parent)
+    return design_from_dict(read_toml(path, "design file"), source=str(path), base=path.parent)
 
 
 def design_from_dict(
@@ -377,11 +370,9 @@ def _variable(index: int, table: dict, family, part, problems: list[str]) -> Var
     if not isinstance(region, str):
         problems.append(f"{prefix}.region: required, the region whose stitch value is designed")
         return None
-    if part is not None and region not in regions:
-        problems.append(
-            f"{prefix}.region: the part has no region {region!r}; its regions: {', '.join(regions)}"
-        )
-    elif part is not None and (regions[region].surface or regions[region].svk):
+    names = list(regions) if part is not None else None
+    _known(f"{prefix}.region", region, names, ("region", "regions"), problems)
+    if region in regions and (regions[region].surface or regions[region].svk):
         problems.append(f"{prefix}.region: {region!r} has a surface file or SVK constants, no knit")
     bounds = _bounds(f"{prefix}.bounds", table.get("bounds"), family, problems)
     initial = None
@@ -480,64 +471,57 @@ def _uniaxial(prefix, table, common, context, problems) -> TargetSpec | None:
     return TargetSpec("uniaxial", curve=curve, unit=unit, **common)
 
 
-def _step(prefix: str, table: dict, problems: list[str]) -> int:
+def _value_and_step(prefix: str, table: dict, what: str, problems: list[str]):
+    """A force or probe target's nonzero `value` and load `step` (-1: the last)."""
+    value = number(f"{prefix}.value", table.get("value"), problems)
+    if value == 0.0:
+        problems.append(f"{prefix}.value: 0; a target {what} must be nonzero (relative misses)")
     step = table.get("step", -1)
     if isinstance(step, bool) or not isinstance(step, int):
         problems.append(f"{prefix}.step: expected a load step number (-1: the last), got {step!r}")
-        return -1
-    return step
+        step = -1
+    return value, step
+
+
+def _known(key: str, value, names: list[str] | None, what: tuple[str, str], problems) -> None:
+    """A problem naming `key` when `value` is not one of the part's `names` (None: no part
+    read), `what` = (singular, plural) of what they name."""
+    if names is not None and value not in names:
+        problems.append(
+            f"{key}: the part has no {what[0]} {value!r}; its {what[1]}: "
+            f"{', '.join(names) or 'none'}"
+        )
 
 
 def _force(prefix, table, common, context, problems) -> TargetSpec | None:
-    check_keys(
-        prefix,
-        table,
-        ("kind", "boundary", "component", "step", "value", "weight", "tolerance"),
-        problems,
-    )
+    keys = ("kind", "boundary", "component", "step", "value", "weight", "tolerance")
+    check_keys(prefix, table, keys, problems)
     part = context[0]
     boundary = table.get("boundary")
-    names = [b.name for b in part.boundaries] if part is not None else []
-    if part is not None and boundary not in names:
-        problems.append(
-            f"{prefix}.boundary: the part has no boundary condition on {boundary!r}; its "
-            f"boundaries: {', '.join(names)}"
-        )
+    names = [b.name for b in part.boundaries] if part is not None else None
+    _known(f"{prefix}.boundary", boundary, names, ("boundary condition on", "boundaries"), problems)
     component = table.get("component", "y")
     if component not in FORCE_COMPONENTS:
         problems.append(f"{prefix}.component: {component!r} is not x or y")
-    value = number(f"{prefix}.value", table.get("value"), problems)
-    if value == 0.0:
-        problems.append(f"{prefix}.value: 0 N; a target force must be nonzero (relative misses)")
-    step = _step(prefix, table, problems)
+    value, step = _value_and_step(prefix, table, "force", problems)
     return TargetSpec(
         "force", value=value, boundary=boundary, component=component, step=step, **common
     )
 
 
 def _probe(prefix, table, common, context, problems) -> TargetSpec | None:
-    check_keys(
-        prefix,
-        table,
-        ("kind", "probe", "quantity", "step", "value", "weight", "tolerance"),
-        problems,
-    )
+    keys = ("kind", "probe", "quantity", "step", "value", "weight", "tolerance")
+    check_keys(prefix, table, keys, problems)
     part = context[0]
     probe = table.get("probe")
-    if part is not None and probe not in part.probes:
-        problems.append(
-            f"{prefix}.probe: the part has no probe {probe!r}; its probes: "
-            f"{', '.join(part.probes) or 'none'}"
-        )
+    names = list(part.probes) if part is not None else None
+    _known(f"{prefix}.probe", probe, names, ("probe", "probes"), problems)
     quantity = table.get("quantity")
     if quantity not in PROBE_QUANTITIES:
         problems.append(
             f"{prefix}.quantity: {quantity!r} is not one of {', '.join(PROBE_QUANTITIES)}"
         )
-    value = number(f"{prefix}.value", table.get("value"), problems)
-    if value == 0.0:
-        problems.append(f"{prefix}.value: 0; a target value must be nonzero (relative misses)")
-    step = _step(prefix, table, problems)
+    value, step = _value_and_step(prefix, table, "value", problems)
     return TargetSpec("probe", value=value, probe=probe, quantity=quantity, step=step, **common)
 
 

@@ -39,6 +39,7 @@ __all__ = [
     "CURVES_FILE",
     "XDMF_FILE",
     "run_fabric",
+    "run_part",
     "run_request",
 ]
 
@@ -97,12 +98,7 @@ def run_fabric(job: FabricJob, folder: Path, comm=MPI.COMM_WORLD) -> dict:
         else space_solver_options(job.steps),
         probes=job.part.probes if space is None else None,
     )
-    message = ""
-    try:
-        result = problem.run(xdmf=folder / XDMF_FILE)
-    except ConvergenceError as error:
-        result, message = error.history, str(error)
-        logger.warning("fabric: %s; keeping the converged steps", message)
+    result, message = run_part(problem, folder / XDMF_FILE, "fabric")
     summary = _summary(result, message, tagged.mesh.topology.index_map(2).size_global)
     if space is not None:
         summary["space"] = to_jsonable(space_curves(result, space))
@@ -114,6 +110,16 @@ def run_fabric(job: FabricJob, folder: Path, comm=MPI.COMM_WORLD) -> dict:
         else:
             plot_space(summary["space"], folder / "figures")
     return summary
+
+
+def run_part(problem: PartProblem, xdmf: Path, label: str) -> tuple[PartResult, str]:
+    """(the part's load path, "" or why the solver gave up): when it gives up, the converged
+    steps are kept (written to `xdmf` too) and a warning names `label`."""
+    try:
+        return problem.run(xdmf=xdmf), ""
+    except ConvergenceError as error:
+        logger.warning("%s: %s; keeping the converged steps", label, error)
+        return error.history, str(error)
 
 
 def _summary(result: PartResult, message: str, cells: int) -> dict:

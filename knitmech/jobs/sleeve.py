@@ -44,8 +44,8 @@ from fabric_dolfinx.spec.revolution import RadiusProfile
 from fabric_dolfinx.spec.space import IndenterSpec, SpaceSpec
 from knitmech.design.family import SurfaceFamily
 from knitmech.design.sleeve import relaxed_tube
+from knitmech.jobs.fabric import run_part
 from knitmech.jobs.sleeve_spec import SleeveJob
-from rve_rod.errors import ConvergenceError
 from rve_rod.jsonable import to_jsonable
 from rve_rod.surface import read_surface
 
@@ -119,12 +119,7 @@ def run_sleeve(job: SleeveJob, folder: Path, comm=MPI.COMM_WORLD) -> dict:
         element_degree=job.element_degree,
         options=space_solver_options(job.steps),
     )
-    message = ""
-    try:
-        result = problem.run(xdmf=folder / XDMF_FILE)
-    except ConvergenceError as error:
-        result, message = error.history, str(error)
-        logger.warning("sleeve: %s; keeping the converged steps", message)
+    result, message = run_part(problem, folder / XDMF_FILE, "sleeve")
     edges = np.linspace(start, end, len(job.stitches) + 1)
     bands = band_rings(problem, limb, 0.5 * (edges[:-1] + edges[1:]), 0.25 * (edges[1] - edges[0]))
     summary = to_jsonable(

@@ -8,7 +8,6 @@ describes the format.
 """
 
 import math
-import tomllib
 from dataclasses import asdict, dataclass, field, fields, replace
 from importlib.resources import files
 from pathlib import Path
@@ -17,7 +16,7 @@ from typing import Any
 from knitmech.fidelity import DEFAULT, LEVELS, Fidelity
 from knitmech.scene.fabric import PartSpec, part_toml, read_part
 from knitmech.scene.fabric import toml_value as _toml_value
-from knitmech.scene.keys import describe, unknown_key
+from knitmech.scene.keys import describe, read_toml, unknown_key
 from knitmech.scene.space import SPACE_TABLES
 from rve_rod import limits
 from rve_rod.errors import InputError
@@ -219,15 +218,7 @@ def default_surface_path() -> Path:
 def load_scene(path: str | Path | None = None) -> Scene:
     """Read and check a scene file (the built-in default scene when `path` is None)."""
     path = default_scene_path() if path is None else Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as error:
-        raise InputError(f"scene file {path}: cannot be read ({error.strerror})") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        raise InputError(f"scene file {path}: not valid TOML ({error})") from None
-    return scene_from_dict(data, source=str(path), base=path.parent)
+    return scene_from_dict(read_toml(path, "scene file"), source=str(path), base=path.parent)
 
 
 def scene_from_dict(data: dict, source: str = "<dict>", base: Path | None = None) -> Scene:

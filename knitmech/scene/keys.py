@@ -1,15 +1,21 @@
-"""The checks every table of a scene (and of a sweep file) shares: unknown keys, numbers and
-(x, y, z) triples. Each appends the problems it finds to the caller's list, naming the key in
-full (`fabric.shape.width`), so that one error reports every problem of a file at once."""
+"""The checks every table of a scene (and of a sweep or design file) shares: unknown keys,
+numbers and (x, y, z) triples. Each appends the problems it finds to the caller's list, naming
+the key in full (`fabric.shape.width`), so that one error reports every problem of a file at
+once. `read_toml` reads such a file."""
 
 import math
+import tomllib
 from collections.abc import Iterable
+from pathlib import Path
 from typing import Any
+
+from rve_rod.errors import InputError
 
 __all__ = [
     "check_keys",
     "describe",
     "number",
+    "read_toml",
     "triple",
     "unknown_key",
 ]
@@ -58,3 +64,14 @@ def triple(key: str, value: Any, problems: list[str]) -> tuple[float, float, flo
         problems.append(f"{key}: expected three numbers [x, y, z], got {value!r}")
         return None
     return tuple(float(v) for v in value)
+
+
+def read_toml(path: Path, kind: str) -> dict:
+    """The parsed TOML of the `kind` file ("scene file", "sweep file", ...) at `path`;
+    InputError naming it when it cannot be read or is not TOML."""
+    try:
+        return tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except OSError as error:
+        raise InputError(f"{kind} {path}: cannot be read ({error.strerror})") from None
+    except tomllib.TOMLDecodeError as error:
+        raise InputError(f"{kind} {path}: not valid TOML ({error})") from None

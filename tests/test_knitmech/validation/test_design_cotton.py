@@ -63,6 +63,15 @@ def design(tmp_path, cache, curves):
     return json.loads((output / "design.json").read_text())
 
 
+def mean_curves(family, low, high):
+    """{direction: the mean of the members' uniaxial forces (N/mm) at STRAINS}."""
+    strain = np.array(STRAINS)
+    return {
+        d: 0.5 * (family.uniaxial(low, strain, d) + family.uniaxial(high, strain, d))
+        for d in ("course", "wale")
+    }
+
+
 @pytest.mark.slow
 def test_a_members_curves_return_its_stitch_value(tmp_path, cotton):
     cache, family = cotton
@@ -78,11 +87,7 @@ def test_a_members_curves_return_its_stitch_value(tmp_path, cotton):
 @pytest.mark.slow
 def test_the_mean_of_two_members_curves_returns_a_value_between_them(tmp_path, cotton):
     cache, family = cotton
-    curves = {
-        d: 0.5 * (family.uniaxial(6.0, np.array(STRAINS), d) + family.uniaxial(6.5, STRAINS, d))
-        for d in ("course", "wale")
-    }
-    (stitch,) = design(tmp_path, cache, curves)["variables"]
+    (stitch,) = design(tmp_path, cache, mean_curves(family, 6.0, 6.5))["variables"]
     assert 6.0 + 1e-3 < stitch["value"] < 6.5 - 1e-3
 
 
@@ -114,11 +119,7 @@ def test_a_sleeve_of_the_cotton_family_meets_its_graduated_target(tmp_path, cott
 @pytest.mark.slow
 def test_the_material_design_of_the_mean_curves_is_pinned(tmp_path, cotton):
     cache, family = cotton
-    curves = {
-        d: 0.5 * (family.uniaxial(6.0, np.array(STRAINS), d) + family.uniaxial(6.5, STRAINS, d))
-        for d in ("course", "wale")
-    }
-    (stitch,) = design(tmp_path, cache, curves)["variables"]
+    (stitch,) = design(tmp_path, cache, mean_curves(family, 6.0, 6.5))["variables"]
     assert_pinned("DESIGN_FAST", {"material stitch of the mean of 6.0 and 6.5": stitch["value"]})
 
 
