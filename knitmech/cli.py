@@ -4,6 +4,7 @@
                  [--executor local|mpi] [--cache-dir DIR] [--json] [-q | -v]
     knitmech sweep SWEEP.toml [-o sweep] [--jobs N] [--executor local|mpi] [--cache-dir DIR]
     knitmech init [SCENE.toml] [--force]      # a commented scene to start from
+    knitmech design DESIGN.toml [-o design] [--fidelity LEVEL] [--jobs N] [--cache-dir DIR]
 
 Without a scene file it runs the built-in default scene (cotton 20s/2, stitch 5.5, the
 paper's 50 mm patch course- and wale-wise). Progress goes to stderr; the summary table (or,
@@ -19,6 +20,8 @@ import json
 import logging
 import sys
 
+from knitmech.design.run import run_design
+from knitmech.design.spec import load_design
 from knitmech.fidelity import LEVELS
 from knitmech.jobs.launch import StageError
 from knitmech.pipeline import run_scene
@@ -42,6 +45,7 @@ from rve_rod.outputs import check_output_file, check_output_folder, ignore_broke
 __all__ = [
     "PROGRAM",
     "build_parser",
+    "design_command",
     "init_command",
     "main",
     "run_command",
@@ -104,8 +108,34 @@ def build_parser() -> argparse.ArgumentParser:
     init.add_argument("scene", nargs="?", default="scene.toml", help="file to write")
     init.add_argument("--force", action="store_true", help="replace an existing file")
     init.set_defaults(run=init_command)
+    _add_design(subparsers)
     add_common_flags(parser, f"{PROGRAM} {__version__}")
     return parser
+
+
+def _add_design(subparsers) -> None:
+    design = subparsers.add_parser(
+        "design",
+        help="design the knit that meets targets (stitch values per region or course band)",
+        description="Search the stitch values (and a sleeve's needles) whose response meets "
+        "the targets of a design file's [design] table; write the design, the knitting "
+        "instructions and target against achieved into a results folder (docs/design.md).",
+    )
+    design.add_argument("design", help="design file (TOML: a scene with a [design] table)")
+    design.add_argument("--fidelity", choices=tuple(LEVELS), help="override the scene's level")
+    design.add_argument("-o", "--output", default="design", help="results folder")
+    design.add_argument(
+        "--jobs",
+        type=int,
+        default=available_cores(),
+        help=f"worker processes for the RVE runs (default: all cores, {available_cores()})",
+    )
+    add_executor_argument(design)
+    design.add_argument(
+        "--cache-dir", help=f"stage and RVE-run cache (default {default_cache_root()})"
+    )
+    design.add_argument("--json", action="store_true", help="print design.json instead")
+    design.set_defaults(run=design_command)
 
 
 def _add_sweep(subparsers) -> None:
@@ -204,6 +234,34 @@ def init_command(args: argparse.Namespace) -> int:
         raise InputError(f"scene {path}: exists already; give another name or --force")
     path.write_text(starter_scene_path().read_text(encoding="utf-8"), encoding="utf-8")
     print(f"wrote {path}; edit it, then: {PROGRAM} run {path} -o results")
+    return 0
+
+
+def design_command(args: argparse.Namespace) -> int:
+    """The `design` subcommand; returns the exit status (0 also when a target is missed: the
+    report says by how much, design.json has `met`)."""
+    _configure_logging(args)
+    check_output_folder("--output", args.output)
+    if args.cache_dir is not None:
+        check_output_folder("--cache-dir", args.cache_dir)
+    scene, design = load_design(args.design)
+    result = run_design(
+        scene,
+        design,
+        fidelity=args.fidelity,
+        output=args.output,
+        cache_dir=args.cache_dir,
+        jobs=args.jobs,
+        executor=args.executor,
+        progress=None if args.quiet else sys.stderr,
+    )
+    ignore_broken_pipe()
+    if args.json:
+        json.dump(result.summary, sys.stdout, indent=1)
+        sys.stdout.write("\n")
+    else:
+        print(result.table)
+        print(f"results in {result.folder}/ (design.json, design.txt, figures/design.png)")
     return 0
 
 

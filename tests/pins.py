@@ -252,6 +252,22 @@ PAPER_COMPARISON_FAST = {
     "shear S12 state 12": Pin(12.424886444612708, SOLVED, PAPER),
 }
 
+DESIGN = "docs/design.md (the checks)"
+DESIGN_FAST = {
+    # tests/test_knitmech/validation/test_design_cotton.py: the cotton 20s/2 family at the fast
+    # level, members 5.5, 6.0, 6.5 mm (their surfaces as `knitmech run --fidelity fast` makes
+    # them). The material design of the mean of the 6.0 and 6.5 members' uniaxial curves (5,
+    # 10, 15, 20 %, course- and wale-wise) and the leg sleeve of examples/design/leg.csv in 4
+    # bands, stitch within [5.5, 6.5], needles designed for 15 % hoop strain, 1.5 -> 1.0 mmHg
+    # (Laplace model), its stitch values (mm) after whole needles and courses. Measured at
+    # issue 30's branch on the surfaces of ed08110 (the RVE model of issue 29).
+    "material stitch of the mean of 6.0 and 6.5": Pin(6.252326834642242, SOLVED, DESIGN),
+    "sleeve band 1 stitch": Pin(5.930809137564123, SOLVED, DESIGN),
+    "sleeve band 2 stitch": Pin(5.785346223063284, SOLVED, DESIGN),
+    "sleeve band 3 stitch": Pin(5.7200401218426125, SOLVED, DESIGN),
+    "sleeve band 4 stitch": Pin(5.842444843300854, SOLVED, DESIGN),
+}
+
 TABLES = {
     "RVE_FAST": RVE_FAST,
     "RVE_PAPER_RESOLUTION": RVE_PAPER_RESOLUTION,
@@ -265,6 +281,7 @@ TABLES = {
     "DEMOS": DEMOS,
     "BALL_BURST": BALL_BURST,
     "PAPER_COMPARISON_FAST": PAPER_COMPARISON_FAST,
+    "DESIGN_FAST": DESIGN_FAST,
 }
 
 

@@ -6,9 +6,15 @@ component (lengths mm):
 
     R(u; v) = int P : (grad v T) dA - int p (g_1 x g_2) . v dA - contact = 0,
 
-the contact of a rigid sphere or plane (frictionless penalty, `penalty_pressure`). The
-pressure p (N/mm^2) acts on the deformed surface (g_1 x g_2 dA is the deformed area times
-its normal): a follower load. The load terms are differentiated by `ufl.derivative`.
+the contact of a rigid sphere, plane or body of revolution (frictionless penalty,
+`penalty_pressure`). The pressure p (N/mm^2) acts on the deformed surface (g_1 x g_2 dA is
+the deformed area times its normal): a follower load. The load terms are differentiated by
+`ufl.derivative`.
+
+An indenter moves with the load factor t: its state q(t) = start + t change (`motion`; a
+sphere's centre, a plane's point, a body of revolution's translation and radius scale) is a
+`LoadConstants` constant, and `gap(x, q)` gives the gap and contact direction at a deformed
+point x.
 """
 
 from dataclasses import dataclass
@@ -17,11 +23,13 @@ import numpy as np
 import ufl
 
 from fabric_dolfinx.membrane.forms import MaterialFrame, deformation_gradient
-from rve_rod.errors import InputError, check_positive
+from fabric_dolfinx.spec.revolution import RadiusProfile
+from rve_rod.errors import InputError, check_positive, check_range
 
 __all__ = [
     "Indenter",
     "PlaneIndenter",
+    "RevolutionIndenter",
     "SphereIndenter",
     "contact_pressure",
     "contact_residual",
@@ -77,10 +85,9 @@ class SphereIndenter:
         check_positive("penalty", self.penalty, "N/mm^3")
         _check_vectors(centre=self.centre, travel=self.travel)
 
-    @property
-    def origin(self) -> tuple[float, float, float]:
-        """The point that moves by t * travel: the centre (mm)."""
-        return self.centre
+    def motion(self) -> tuple[np.ndarray, np.ndarray]:
+        """(start, change) of its state, the centre (mm): q(t) = start + t change."""
+        return np.asarray(self.centre, dtype=float), np.asarray(self.travel, dtype=float)
 
     def gap(self, position, origin):
         """(gap |x - c| - R mm, unit vector from the centre c = `origin` to x) at the deformed
@@ -120,10 +127,9 @@ class PlaneIndenter:
         if not np.any(self.normal):
             raise InputError("indenter normal=(0, 0, 0) has no direction")
 
-    @property
-    def origin(self) -> tuple[float, float, float]:
-        """The point that moves by t * travel: the plane's point (mm)."""
-        return self.point
+    def motion(self) -> tuple[np.ndarray, np.ndarray]:
+        """(start, change) of its state, the plane's point (mm): q(t) = start + t change."""
+        return np.asarray(self.point, dtype=float), np.asarray(self.travel, dtype=float)
 
     def _unit(self) -> np.ndarray:
         normal = np.asarray(self.normal, dtype=float)
@@ -143,20 +149,102 @@ class PlaneIndenter:
         return f"plane point={tuple(self.point)} mm, normal={tuple(self.normal)}"
 
 
-Indenter = SphereIndenter | PlaneIndenter
-"""A rigid indenter: it moves its `origin` by t * travel and gives the gap and the contact
-direction at a point (`gap`)."""
+def profile_radius(profile: RadiusProfile, z) -> tuple:
+    """(r(z), dr/dz) of `profile` at the UFL scalar z (mm): its polynomial pieces
+    (`RadiusProfile.pieces`) chosen by conditionals, linear beyond its ends."""
+    knots, pieces = profile.z, profile.pieces()
+    start, end = profile.end_slopes()
+    radius = profile.r[0] + start * (z - knots[0])
+    slope = ufl.as_ufl(start)
+    for knot, (a0, a1, a2, a3) in zip(knots[:-1], pieces, strict=True):
+        t = z - knot
+        inside = ufl.ge(z, knot)
+        radius = ufl.conditional(inside, a0 + t * (a1 + t * (a2 + t * a3)), radius)
+        slope = ufl.conditional(inside, a1 + t * (2 * a2 + t * 3 * a3), slope)
+    beyond = ufl.gt(z, knots[-1])
+    radius = ufl.conditional(beyond, profile.r[-1] + end * (z - knots[-1]), radius)
+    return radius, ufl.conditional(beyond, end, slope)
 
 
-def contact_pressure(u, indenter: Indenter, origin, frame: MaterialFrame):
-    """(contact pressure k <-gap> N/mm^2, its unit direction on the fabric) at u, for the
-    indenter whose origin is at `origin` (a Constant (3,), mm)."""
-    gap, direction = indenter.gap(frame.position + u, origin)
+@dataclass(frozen=True)
+class RevolutionIndenter:
+    """A rigid body of revolution about the z axis, r(z) from a profile, that grows from
+    `start_scale` r(z) to r(z) (an expanding mandrel) while it moves by t * travel, in
+    frictionless penalty contact with the fabric from inside or outside.
+
+    The gap at a deformed point x (the body translated by d, scaled by sigma; rho the
+    distance of x - d from the axis, z its axial coordinate) is the distance to the body
+    along its outward normal to first order in the surface's curvature,
+
+        gap = (rho - sigma r(z)) / sqrt(1 + (sigma r'(z))^2),
+        n = (e_rho - sigma r'(z) e_z) / sqrt(1 + (sigma r'(z))^2),
+
+    exact for a cylinder and a cone. Positive outside the body: the fabric is pushed out
+    along n (a tube drawn over a limb).
+
+    Attributes:
+        profile: the body's radius profile r(z) (mm).
+        start_scale: sigma at load factor 0, in (0, 1]; sigma = 1 at load factor 1.
+        travel: (dx, dy, dz) of the body at load factor 1 (mm).
+        penalty: contact stiffness k (N/mm^3), the law of the sphere (`penalty_pressure`).
+    """
+
+    profile: RadiusProfile
+    start_scale: float
+    travel: tuple[float, float, float]
+    penalty: float
+
+    def __post_init__(self):
+        check_positive("penalty", self.penalty, "N/mm^3")
+        check_range("start_scale", self.start_scale, 0.0, 1.0, closed=True)
+        check_positive("start_scale", self.start_scale)
+        _check_vectors(travel=self.travel)
+
+    def motion(self) -> tuple[np.ndarray, np.ndarray]:
+        """(start, change) of its state (dx, dy, dz mm, sigma): q(t) = start + t change."""
+        start = np.array([0.0, 0.0, 0.0, self.start_scale])
+        return start, np.array([*self.travel, 1.0 - self.start_scale])
+
+    def gap(self, position, state):
+        """(gap mm, unit normal n of the body) at the deformed position x (UFL), the body's
+        state q = (dx, dy, dz, sigma) (a Constant (4,))."""
+        offset = position - ufl.as_vector([state[0], state[1], state[2]])
+        rho = ufl.sqrt(offset[0] ** 2 + offset[1] ** 2)
+        radius, slope = profile_radius(self.profile, offset[2])
+        scale = state[3]
+        norm = ufl.sqrt(1.0 + (scale * slope) ** 2)
+        normal = ufl.as_vector([offset[0] / rho, offset[1] / rho, -scale * slope]) / norm
+        return (rho - scale * radius) / norm, normal
+
+    def start_gaps(self, points: np.ndarray) -> np.ndarray:
+        """The gaps (mm) of reference points (n, 3) at load factor 0."""
+        rho = np.hypot(points[:, 0], points[:, 1])
+        slope = self.start_scale * self.profile.slope(points[:, 2])
+        radius = self.start_scale * self.profile.radius(points[:, 2])
+        return (rho - radius) / np.sqrt(1.0 + slope**2)
+
+    def describe(self) -> str:
+        first, last = self.profile.extent
+        return (
+            f"body of revolution r(z) over z = {first:g} ... {last:g} mm, scaled by "
+            f"{self.start_scale:g} at the start"
+        )
+
+
+Indenter = SphereIndenter | PlaneIndenter | RevolutionIndenter
+"""A rigid indenter: its state follows the load factor (`motion`) and it gives the gap and
+the contact direction at a point (`gap`)."""
+
+
+def contact_pressure(u, indenter: Indenter, state, frame: MaterialFrame):
+    """(contact pressure k <-gap> N/mm^2 per undeformed area, its unit direction on the
+    fabric) at u, for the indenter in `state` (a Constant, `Indenter.motion`)."""
+    gap, direction = indenter.gap(frame.position + u, state)
     return penalty_pressure(gap, indenter.penalty), direction
 
 
-def contact_residual(u, indenter: Indenter, origin, frame: MaterialFrame, dx: ufl.Measure):
+def contact_residual(u, indenter: Indenter, state, frame: MaterialFrame, dx: ufl.Measure):
     """The contact force's virtual work int k <-gap> n . v dA (N; subtract it from R)."""
     v = ufl.TestFunction(u.function_space)
-    pressure, direction = contact_pressure(u, indenter, origin, frame)
+    pressure, direction = contact_pressure(u, indenter, state, frame)
     return pressure * ufl.dot(direction, v) * dx

@@ -44,7 +44,9 @@ from fabric_dolfinx.graded import graded_material
 from fabric_dolfinx.material import Material
 from fabric_dolfinx.membrane.forms import material_frame, membrane_forms, membrane_state
 from fabric_dolfinx.membrane.loads import (
+    Indenter,
     PlaneIndenter,
+    RevolutionIndenter,
     SphereIndenter,
     contact_pressure,
     contact_residual,
@@ -66,6 +68,7 @@ from fabric_dolfinx.solve import (
     with_history,
 )
 from fabric_dolfinx.spec.part import BoundaryCondition
+from fabric_dolfinx.spec.revolution import RadiusProfile
 from fabric_dolfinx.spec.space import IndenterSpec, SpaceSpec
 from rve_rod.errors import InputError, check_integer
 
@@ -185,9 +188,12 @@ def space_solver_options(steps: int) -> SolverOptions:
     return replace(plain, line_search=10, stepping=stepping)
 
 
-def _indenter(spec: IndenterSpec) -> SphereIndenter | PlaneIndenter:
+def _indenter(spec: IndenterSpec) -> Indenter:
     if spec.shape == "plane":
         return PlaneIndenter(spec.point, spec.normal, spec.travel, spec.penalty)
+    if spec.shape == "revolution":
+        profile = RadiusProfile(*zip(*spec.profile, strict=True))
+        return RevolutionIndenter(profile, spec.start_scale, spec.travel, spec.penalty)
     return SphereIndenter(spec.radius, spec.centre, spec.travel, spec.penalty)
 
 
@@ -277,7 +283,7 @@ class PartProblem:
             jacobian = forms.jacobian if jacobian is None else jacobian + forms.jacobian
         if self.loads.external is not None:
             residual = residual - self.loads.external
-        self.indenter = None
+        self.indenter = self.indenter_state = None
         self.previous = fem.Function(function_space)
         self._stabilization = self._stabilization_form = self._indenter_forms = None
         if space is not None:
@@ -314,7 +320,8 @@ class PartProblem:
         low = comm.allreduce(values.min() if values.size else np.inf, op=MPI.MIN)
         high = comm.allreduce(values.max() if values.size else -np.inf, op=MPI.MAX)
         members = [value for value, _ in region.family]
-        if low < min(members) - 1e-12 or high > max(members) + 1e-12:
+        # the scene reader's tolerance (knitmech.scene.fabric: members within 1e-9 mm)
+        if low < min(members) - 1e-9 or high > max(members) + 1e-9:
             raise InputError(
                 f"region {region.name!r}: stitch values {low:.4g} ... {high:.4g} mm leave the "
                 f"family's range [{min(members):g}, {max(members):g}] mm"
@@ -331,9 +338,10 @@ class PartProblem:
         if space.indenter is not None:
             self.indenter = indenter = _indenter(space.indenter)
             self._check_indenter(indenter)
-            origin = self.constants.constant(indenter.travel, indenter.origin)
-            loads.append(contact_residual(self.u, indenter, origin, self.frame, dx))
-            contact, direction = contact_pressure(self.u, indenter, origin, self.frame)
+            start, change = indenter.motion()
+            self.indenter_state = state = self.constants.constant(change, start)
+            loads.append(contact_residual(self.u, indenter, state, self.frame, dx))
+            contact, direction = contact_pressure(self.u, indenter, state, self.frame)
             self._indenter_forms = [fem.form(-contact * direction[i] * dx) for i in range(3)]
         if space.stabilization > 0.0:
             mesh = self.tagged.mesh

@@ -5,8 +5,8 @@ shape has one, "fabric") or, when it gives a condition `where` on x, y (mm), the
 centres satisfy it. Regions are assigned in the order given, a later one taking cells from an
 earlier one, so a scene can say "the fabric, and a stiffer band where 80 < y < 120". Every
 cell must end in exactly one region. The course direction (degrees from the x axis to the
-course) and the stitch value are constants or expressions of x, y, evaluated at the cell
-centres (one value per cell, DG0).
+course) and the stitch value are constants or expressions of x, y (and z on a surface in
+space), evaluated at the cell centres (one value per cell, DG0).
 """
 
 from collections.abc import Sequence
@@ -75,7 +75,7 @@ class RegionCells(NamedTuple):
         tags: DOLFINx cell tags, value = region index (order of the regions given).
         index: (local cells incl. ghosts,) region index of each cell, -1 where unknown
             (ghost cells of physical surfaces not held on this rank).
-        centres: (local cells, 2) cell centres (mm).
+        centres: (local cells, gdim) cell centres (mm).
     """
 
     tags: dolfinx.mesh.MeshTagsMetaClass
@@ -88,10 +88,11 @@ class RegionCells(NamedTuple):
 
 
 def cell_centres(mesh: dolfinx.mesh.Mesh) -> np.ndarray:
-    """(local cells incl. ghosts, 2) mean of each cell's geometry nodes (mm)."""
+    """(local cells incl. ghosts, gdim) mean of each cell's geometry nodes (mm): (x, y), or
+    (x, y, z) for a surface in space."""
     count = mesh.topology.index_map(2).size_local + mesh.topology.index_map(2).num_ghosts
     nodes = mesh.geometry.dofmap.array.reshape(count, -1)
-    return mesh.geometry.x[nodes, :2].mean(axis=1)
+    return mesh.geometry.x[nodes, : mesh.geometry.dim].mean(axis=1)
 
 
 def assign_regions(tagged: TaggedMesh, regions: Sequence[Region]) -> RegionCells:
@@ -153,7 +154,7 @@ def cell_field(
         if value is None:
             result = np.full(local.size, missing)
         elif isinstance(value, FieldExpression):
-            result = value(cells.centres[local, 0], cells.centres[local, 1]) * scale
+            result = value(*cells.centres[local].T) * scale
         else:
             result = np.full(local.size, float(value) * scale)
         function.x.array[dofs[local]] = result

@@ -1,10 +1,12 @@
-"""Scalar fields and conditions written as expressions of the coordinates x, y (mm).
+"""Scalar fields and conditions written as expressions of the coordinates x, y (mm), and z on
+a surface in space.
 
 A scene gives a course direction, a stitch value or a region's extent as text such as
 `"45 + 10 * sin(pi * x / 200)"` or `"abs(y - 100) < 30"`. The text is parsed once, checked to
 use only the coordinates, numbers, arithmetic, comparisons and the functions of `FUNCTIONS`,
 and evaluated with NumPy on arrays of points (cell centres). No DOLFINx: the scene reader
-checks expressions before anything runs.
+checks expressions before anything runs. `piecewise_linear` writes the field that is linear
+between values at stations along one coordinate (a designed stitch field).
 """
 
 import ast
@@ -18,6 +20,7 @@ __all__ = [
     "CONSTANTS",
     "FUNCTIONS",
     "FieldExpression",
+    "piecewise_linear",
 ]
 
 FUNCTIONS = {
@@ -62,10 +65,13 @@ class FieldExpression:
     Attributes:
         text: the expression, Python syntax (`**` for powers, `and`/`or` in conditions).
         key: the scene key it comes from (for messages).
+        coordinates: the coordinates it may use: ("x", "y"), or ("x", "y", "z") for a field
+            on a surface in space.
     """
 
     text: str
     key: str = "expression"
+    coordinates: tuple[str, ...] = ("x", "y")
 
     def __post_init__(self):
         try:
@@ -74,7 +80,7 @@ class FieldExpression:
             raise InputError(
                 f"{self.key}: {self.text!r} is not an expression ({error.msg})"
             ) from None
-        allowed = {"x", "y", *FUNCTIONS, *CONSTANTS}
+        allowed = {*self.coordinates, *FUNCTIONS, *CONSTANTS}
         for node in ast.walk(tree):
             if not isinstance(node, _NODES):
                 raise InputError(
@@ -84,7 +90,7 @@ class FieldExpression:
             if isinstance(node, ast.Name) and node.id not in allowed:
                 raise InputError(
                     f"{self.key}: {self.text!r} uses the unknown name {node.id!r} "
-                    f"(valid: x, y, pi, {', '.join(FUNCTIONS)})"
+                    f"(valid: {', '.join(self.coordinates)}, pi, {', '.join(FUNCTIONS)})"
                 )
             if isinstance(node, ast.Call) and not (
                 isinstance(node.func, ast.Name) and node.func.id in FUNCTIONS
@@ -124,14 +130,16 @@ class FieldExpression:
             )
         return self
 
-    def __call__(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        """Values (float array, the shape of x) at the points (x, y) in mm."""
+    def __call__(self, x: np.ndarray, y: np.ndarray, z: np.ndarray | None = None) -> np.ndarray:
+        """Values (float array, the shape of x) at the points (x, y[, z]) in mm (z = 0 when
+        not given)."""
         x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+        z = np.zeros_like(x) if z is None else np.asarray(z, dtype=float)
         tree = ast.parse(self.text, mode="eval")
         # `and`/`or` of arrays: elementwise
         tree = _ElementwiseLogic().visit(tree)
         code = compile(ast.fix_missing_locations(tree), self.key, "eval")
-        names = {"x": x, "y": y, **FUNCTIONS, **CONSTANTS, "_all": np.logical_and.reduce}
+        names = {"x": x, "y": y, "z": z, **FUNCTIONS, **CONSTANTS, "_all": np.logical_and.reduce}
         names["_any"] = np.logical_or.reduce
         with np.errstate(all="ignore"):
             value = eval(code, {"__builtins__": {}}, names)  # the names were checked above
@@ -139,6 +147,19 @@ class FieldExpression:
         if not np.all(np.isfinite(value)):
             raise InputError(f"{self.key}: {self.text!r} is not finite at some points")
         return value
+
+
+def piecewise_linear(coordinate: str, stations, values) -> str:
+    """The expression of the field equal to `values` at `stations` (increasing, mm) along
+    `coordinate` ("x", "y" or "z"), linear between them and constant beyond:
+    v_0 + sum_i (v_i+1 - v_i) clip((coordinate - t_i) / (t_i+1 - t_i), 0, 1)."""
+    terms = [repr(float(values[0]))]
+    for i in range(len(stations) - 1):
+        rise = float(values[i + 1]) - float(values[i])
+        span = float(stations[i + 1]) - float(stations[i])
+        start = float(stations[i])
+        terms.append(f"{rise!r} * clip(({coordinate} - {start!r}) / {span!r}, 0.0, 1.0)")
+    return " + ".join(terms)
 
 
 class _ElementwiseLogic(ast.NodeTransformer):

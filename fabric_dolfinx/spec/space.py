@@ -1,8 +1,8 @@
 """The specification of the membrane in space, without DOLFINx (the scene reader checks it).
 
 `SpaceSpec` holds what a part in space adds to the plane part: the follower pressure, a
-rigid indenter (sphere or plane), the normal stabilization and, for a gmsh surface in
-space, the course direction field (around or along an axis).
+rigid indenter (sphere, plane or body of revolution), the normal stabilization and, for a
+gmsh surface in space, the course direction field (around or along an axis).
 `fabric_dolfinx.membrane3d_solve` runs it.
 """
 
@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from fabric_dolfinx.spec.revolution import RadiusProfile
 from rve_rod.errors import InputError, check_positive
 
 __all__ = [
@@ -31,29 +32,36 @@ def _vector(name: str, value, length: int = 3) -> tuple[float, ...]:
     return tuple(float(v) for v in value)
 
 
-INDENTER_SHAPES = {"sphere": ("radius", "centre"), "plane": ("point", "normal")}
-"""The rigid indenters and the keys that place each (`membrane3d.SphereIndenter`,
-`membrane3d.PlaneIndenter`)."""
+INDENTER_SHAPES = {
+    "sphere": ("radius", "centre"),
+    "plane": ("point", "normal"),
+    "revolution": ("profile", "start_scale"),
+}
+"""The rigid indenters and the keys that place each (`membrane.loads.SphereIndenter`,
+`PlaneIndenter`, `RevolutionIndenter`)."""
 
 
 @dataclass(frozen=True)
 class IndenterSpec:
-    """A rigid sphere or plane moving along a line.
+    """A rigid sphere, plane or body of revolution moving along a line.
 
     Attributes:
         travel: (dx, dy, dz) mm the indenter moves by at t = 1.
-        shape: "sphere" (radius mm, centre (x, y, z) mm at t = 0) or "plane" (point (x, y, z)
-            mm of the plane at t = 0, normal towards the fabric's side); outside the fabric
-            at t = 0.
+        shape: "sphere" (radius mm, centre (x, y, z) mm at t = 0), "plane" (point (x, y, z)
+            mm of the plane at t = 0, normal towards the fabric's side) or "revolution"
+            (profile ((z, r), ...) mm of a body about the z axis, its radii start_scale r at
+            t = 0 growing to r at t = 1: an expanding mandrel); outside the fabric at t = 0.
         penalty: contact stiffness N/mm^3.
     """
 
-    travel: tuple[float, float, float]
+    travel: tuple[float, float, float] = (0.0, 0.0, 0.0)
     shape: str = "sphere"
     radius: float | None = None
     centre: tuple[float, float, float] | None = None
     point: tuple[float, float, float] | None = None
     normal: tuple[float, float, float] | None = None
+    profile: tuple[tuple[float, float], ...] | None = None
+    start_scale: float | None = None
     penalty: float = 100.0
 
     def __post_init__(self):
@@ -77,9 +85,23 @@ class IndenterSpec:
             check_positive("indenter.radius", self.radius, "mm")
         if self.normal is not None and not np.any(self.normal):
             raise InputError("indenter.normal=(0, 0, 0) has no direction")
+        if self.profile is not None:
+            pairs = tuple(_vector("indenter.profile point", point, 2) for point in self.profile)
+            try:
+                RadiusProfile(*zip(*pairs, strict=True))
+            except InputError as error:
+                raise InputError(f"indenter.profile: {error}") from None
+            object.__setattr__(self, "profile", pairs)
+        if self.start_scale is not None and not (
+            math.isfinite(self.start_scale) and 0.0 < self.start_scale <= 1.0
+        ):
+            raise InputError(f"indenter.start_scale={self.start_scale!r} is outside (0, 1]")
         _vector("indenter.travel", self.travel)
-        if not np.any(self.travel):
-            raise InputError("indenter.travel=(0, 0, 0): the indenter must move")
+        if not np.any(self.travel) and (self.shape != "revolution" or self.start_scale == 1.0):
+            raise InputError(
+                "indenter.travel=(0, 0, 0): the indenter must move (or a body of revolution "
+                "grow: start_scale < 1)"
+            )
 
 
 @dataclass(frozen=True)

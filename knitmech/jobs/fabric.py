@@ -43,6 +43,7 @@ __all__ = [
     "STRESS_FIGURE",
     "XDMF_FILE",
     "run_fabric",
+    "run_part",
     "run_request",
     "write_csv_curves",
 ]
@@ -104,17 +105,12 @@ def run_fabric(job: FabricJob, folder: Path, comm=MPI.COMM_WORLD) -> dict:
         else space_solver_options(job.steps),
         probes=job.part.probes if space is None else None,
     )
-    message = ""
     last = {}  # the PartFields, up to date at the last converged step
 
     def keep_fields(load_factor: float, fields) -> None:
         last["fields"], last["load_factor"] = fields, load_factor
 
-    try:
-        result = problem.run(xdmf=folder / XDMF_FILE, on_step=keep_fields)
-    except ConvergenceError as error:
-        result, message = error.history, str(error)
-        logger.warning("fabric: %s; keeping the converged steps", message)
+    result, message = run_part(problem, folder / XDMF_FILE, "fabric", on_step=keep_fields)
     summary = _summary(result, message, tagged.mesh.topology.index_map(2).size_global)
     if space is not None:
         summary["space"] = to_jsonable(space_curves(result, space))
@@ -171,6 +167,17 @@ def _write_csv(path: Path, header: list[str], rows: np.ndarray) -> Path:
     lines = [",".join(header)] + [",".join(f"{value:.10g}" for value in row) for row in rows]
     path.write_text("\n".join(lines) + "\n")
     return path
+
+
+def run_part(problem: PartProblem, xdmf: Path, label: str, on_step=None) -> tuple[PartResult, str]:
+    """(the part's load path, "" or why the solver gave up): when it gives up, the converged
+    steps are kept (written to `xdmf` too) and a warning names `label`. `on_step(load_factor,
+    fields)` is called at every converged step (PartProblem.run)."""
+    try:
+        return problem.run(xdmf=xdmf, on_step=on_step), ""
+    except ConvergenceError as error:
+        logger.warning("%s: %s; keeping the converged steps", label, error)
+        return error.history, str(error)
 
 
 def _summary(result: PartResult, message: str, cells: int) -> dict:

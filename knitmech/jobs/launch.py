@@ -26,7 +26,11 @@ __all__ = [
 
 logger = logging.getLogger(__name__)
 
-JOBS = {"patch": "knitmech.jobs.patch", "fabric": "knitmech.jobs.fabric"}
+JOBS = {
+    "patch": "knitmech.jobs.patch",
+    "fabric": "knitmech.jobs.fabric",
+    "sleeve": "knitmech.jobs.sleeve",
+}
 """Job kind -> the module whose `run_request(request, folder, comm) -> dict` runs it."""
 
 MPI_STOP_TIMEOUT_S = 10.0

@@ -46,11 +46,12 @@ def space_curves(result: PartResult, space: SpaceSpec) -> dict:
     if space.pressure:
         curves["pressure"] = t * space.pressure
     if result.space.indenter_force is not None:
-        direction = np.asarray(space.indenter.travel) / np.linalg.norm(space.indenter.travel)
         curves["indenter_travel"] = result.space.indenter_travel
         curves["indenter_force"] = result.space.indenter_force
-        # the force that pushes the indenter along its travel (the fabric resists: > 0)
-        curves["indenter_resistance"] = -result.space.indenter_force @ direction
+        if np.any(space.indenter.travel):  # an expanding body of revolution need not move
+            direction = np.asarray(space.indenter.travel) / np.linalg.norm(space.indenter.travel)
+            # the force that pushes the indenter along its travel (the fabric resists: > 0)
+            curves["indenter_resistance"] = -result.space.indenter_force @ direction
     return curves
 
 

@@ -224,8 +224,7 @@ def default_surface_path() -> Path:
 def load_scene(path: str | Path | None = None) -> Scene:
     """Read and check a scene file (the built-in default scene when `path` is None)."""
     path = default_scene_path() if path is None else Path(path)
-    data = read_toml(path, "scene file")
-    return scene_from_dict(data, source=str(path), base=path.parent)
+    return scene_from_dict(read_toml(path, "scene file"), source=str(path), base=path.parent)
 
 
 def scene_from_dict(data: dict, source: str = "<dict>", base: Path | None = None) -> Scene:

@@ -1,6 +1,7 @@
-"""The checks every table of a scene (and of a sweep file) shares: unknown keys, numbers and
-(x, y, z) triples. Each appends the problems it finds to the caller's list, naming the key in
-full (`fabric.shape.width`), so that one error reports every problem of a file at once."""
+"""The checks every table of a scene (and of a sweep or design file) shares: unknown keys,
+numbers and (x, y, z) triples. Each appends the problems it finds to the caller's list, naming
+the key in full (`fabric.shape.width`), so that one error reports every problem of a file at
+once. `read_toml` reads such a file."""
 
 import codecs
 import math

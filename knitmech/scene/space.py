@@ -10,7 +10,8 @@
     value = 0.02                # N/mm^2 at the end of the load path
 
     [indenter]                  # a rigid indenter, needs [space]
-    shape = "sphere"            # or "plane" (with point and normal instead of radius, centre)
+    shape = "sphere"            # or "plane" (with point and normal instead of radius, centre),
+                                # or "revolution" (profile = [[z, r], ...], start_scale)
     radius = 12.7               # mm
     centre = [0.0, 0.0, -12.7]  # mm, at the start (outside the fabric)
     travel = [0.0, 0.0, 30.0]   # mm, the indenter's displacement at the end
@@ -98,12 +99,22 @@ def read_space(data: dict, mesh: MeshSpec | None, problems: list[str]) -> SpaceS
 def _indenter(table: dict, problems: list[str], count: int) -> IndenterSpec | None:
     """The IndenterSpec of an [indenter] table, or None with its problems added."""
     spec = {key: value for key, value in table.items() if key == "shape"}
+    revolution = table.get("shape") == "revolution"
     for key in ("centre", "point", "normal", "travel"):
-        if key in table or key == "travel":
+        if key in table or (key == "travel" and not revolution):
             spec[key] = triple(f"indenter.{key}", table.get(key), problems)
-    for key in ("radius", "penalty"):
+    for key in ("radius", "penalty", "start_scale"):
         if key in table:
             spec[key] = number(f"indenter.{key}", table[key], problems)
+    if "profile" in table:
+        profile = table["profile"]
+        if not isinstance(profile, list) or not all(
+            isinstance(p, list) and len(p) == 2 and all(isinstance(v, int | float) for v in p)
+            for p in profile
+        ):
+            problems.append(f"indenter.profile: expected [[z, r], ...] in mm, got {profile!r}")
+        else:
+            spec["profile"] = tuple((float(z), float(r)) for z, r in profile)
     if len(problems) > count:
         return None
     try:
@@ -126,6 +137,8 @@ def space_toml(space: SpaceSpec) -> str:
         lines += ["", "[indenter]", f'shape = "{indenter.shape}"']
         for key in (*INDENTER_SHAPES[indenter.shape], "travel"):
             value = getattr(indenter, key)
-            lines.append(f"{key} = {value if key == 'radius' else list(value)!r}")
+            if key == "profile":
+                value = [list(point) for point in value]
+            lines.append(f"{key} = {value if key in ('radius', 'start_scale') else list(value)!r}")
         lines.append(f"penalty = {indenter.penalty!r}")
     return "\n".join(lines) + "\n"

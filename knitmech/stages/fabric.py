@@ -27,6 +27,7 @@ __all__ = [
     "fabric_stage",
     "fabric_table",
     "in_subfolder",
+    "knit_label",
     "knit_surfaces",
 ]
 
@@ -64,7 +65,7 @@ def knit_surfaces(plan: RunPlan) -> KnitSurfaces:
             return ""
         label = next((k for k, v in others.items() if v == fabric), None)
         if label is None:
-            label = _label(arguments, len(others))
+            label = knit_label(arguments, len(others))
             others[label] = fabric
         return label
 
@@ -85,7 +86,9 @@ def knit_surfaces(plan: RunPlan) -> KnitSurfaces:
     return KnitSurfaces("" in used, others, tuple(labels), tuple(families))
 
 
-def _label(arguments: dict, count: int) -> str:
+def knit_label(arguments: dict, count: int) -> str:
+    """The folder name of a knit's surface under `knits/`: `<preset>_stitch-<s>` for a preset
+    knit, `knit-<count + 1>` for one with values of its own."""
     if set(arguments) <= {"preset", "stitch"} and "preset" in arguments:
         stitch = arguments.get("stitch")
         return arguments["preset"] + (f"_stitch-{stitch:g}" if stitch is not None else "")

@@ -6,7 +6,6 @@ stage of the pipeline, the fit and the macro scale use the same checks.
 """
 
 import numpy as np
-import scipy.optimize
 
 from rve_rod.errors import InputError, check_integer
 from rve_rod.surface.response import ResponseSurface
@@ -71,7 +70,8 @@ def homogeneous_response(
     F = 1 + strain along the load; across it the stretch is free with zero stress
     ("free": uniaxial tension, as the RVE's uniaxial load case) or held at 1 ("fixed":
     strip-biaxial). The clamped patch lies between the two. Returns P = F S along the load
-    for each strain (numpy evaluation of the surface, no finite elements).
+    for each strain (numpy evaluation of the surface, every strain at once; no finite
+    elements). `surface` is anything with `stress(E)` returning S and the tangent.
     """
     if direction not in LOAD_AXES:
         raise InputError(f"direction={direction!r} is not one of {', '.join(LOAD_AXES)}")
@@ -79,20 +79,23 @@ def homogeneous_response(
         raise InputError(f"lateral={lateral!r} must be 'free' or 'fixed'")
     axis = LOAD_AXES[direction]
     other = 1 - axis
-    forces = []
-    for value in np.atleast_1d(np.asarray(strain, dtype=float)):
-        E_load = ((1.0 + value) ** 2 - 1.0) / 2.0
+    strain = np.atleast_1d(np.asarray(strain, dtype=float))
+    E_load = ((1.0 + strain) ** 2 - 1.0) / 2.0
 
-        def stress(E_lateral, E_load=E_load):
-            E = np.zeros(3)
-            E[axis], E[other] = E_load, E_lateral
-            return surface.stress(E).S[0]
+    def stress(E_lateral: np.ndarray):
+        E = np.zeros((E_lateral.size, 3))
+        E[:, axis] = np.resize(E_load, E_lateral.size)
+        E[:, other] = E_lateral
+        return surface.stress(E)
 
-        lateral_strain = 0.0
-        if lateral == "free":
-            lateral_strain = _free_lateral_strain(lambda e, stress=stress: stress(e)[other], value)
-        forces.append((1.0 + value) * stress(lateral_strain)[axis])
-    return np.array(forces)
+    def lateral_stress(E_lateral: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        evaluated = stress(E_lateral)
+        return evaluated.S[:, other], evaluated.tangent[:, other, other]
+
+    lateral_strain = np.zeros_like(strain)
+    if lateral == "free":
+        lateral_strain = _free_lateral_strains(lateral_stress, strain)
+    return (1.0 + strain) * stress(lateral_strain).S[:, axis]
 
 
 _LATERAL_LIMIT = 0.5
@@ -101,23 +104,50 @@ _LATERAL_SCAN = 0.01
 """Step of the scan outward from E = 0 for a sign change of the lateral stress."""
 
 
-def _free_lateral_strain(lateral_stress, strain: float) -> float:
-    """The lateral Green-Lagrange strain nearest to 0 at which `lateral_stress` vanishes.
+def _free_lateral_strains(lateral_stress, strain: np.ndarray) -> np.ndarray:
+    """(m,) for each strain the lateral Green-Lagrange strain nearest to 0 at which the
+    lateral stress vanishes.
 
-    Scans outward from 0 on both sides for the first sign change, then solves with Brent's
-    method: a fitted surface may turn over far outside its data (its linear extension), so
-    a root there must not be taken for the physical one nearer to the reference state.
+    `lateral_stress(E (k,))` returns the lateral stress and its derivative (k,) at the
+    lateral strains E, the k = j m points being j rounds of the m strains. Scans outward from
+    0 on both sides (the negative side first at each step) for the first sign change, then
+    solves in that bracket by Newton's method, bisecting where a Newton step would leave it:
+    a fitted surface may turn over far outside its data (its linear extension), so a root
+    there must not be taken for the physical one nearer to the reference state.
     """
-    at_zero = lateral_stress(0.0)
-    if at_zero == 0.0:
-        return 0.0
-    for step in range(1, round(_LATERAL_LIMIT / _LATERAL_SCAN) + 1):
-        for sign in (-1.0, 1.0):
-            end = sign * step * _LATERAL_SCAN
-            start = end - sign * _LATERAL_SCAN
-            if np.sign(lateral_stress(end)) != np.sign(lateral_stress(start)):
-                return scipy.optimize.brentq(lateral_stress, *sorted((start, end)), xtol=1e-15)
-    raise InputError(
-        f"at strain {strain:.4g} no lateral strain in [-{_LATERAL_LIMIT}, {_LATERAL_LIMIT}] "
-        "makes the lateral stress vanish"
-    )
+    m = strain.size
+    steps = round(_LATERAL_LIMIT / _LATERAL_SCAN)
+    offsets = _LATERAL_SCAN * np.arange(-steps, steps + 1)
+    values = lateral_stress(np.repeat(offsets, m))[0].reshape(offsets.size, m)
+    signs = np.sign(values)
+    low, high = np.zeros(m), np.zeros(m)
+    found = signs[steps] == 0.0  # the lateral stress vanishes at E = 0
+    for step in range(1, steps + 1):
+        for end, start in ((steps - step, steps - step + 1), (steps + step, steps + step - 1)):
+            change = ~found & (signs[end] != signs[start])
+            low[change] = np.minimum(offsets[end], offsets[start])
+            high[change] = np.maximum(offsets[end], offsets[start])
+            found |= change
+    if not found.all():
+        missing = float(strain[np.flatnonzero(~found)[0]])
+        raise InputError(
+            f"at strain {missing:.4g} no lateral strain in [-{_LATERAL_LIMIT}, "
+            f"{_LATERAL_LIMIT}] makes the lateral stress vanish"
+        )
+    f_low = lateral_stress(low)[0]
+    root = 0.5 * (low + high)
+    done = low == high
+    for _ in range(200):
+        value, slope = lateral_stress(root)
+        left = np.sign(value) == np.sign(f_low)
+        low, f_low = np.where(left, root, low), np.where(left, value, f_low)
+        high = np.where(left, high, root)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            newton = root - value / slope
+        inside = np.isfinite(newton) & (newton > low) & (newton < high)
+        step = np.where(inside, newton, 0.5 * (low + high)) - root
+        done |= (value == 0.0) | (np.abs(step) <= 1e-15 + 4e-16 * np.abs(root))
+        if done.all():
+            return root
+        root = np.where(done, root, root + step)
+    return root

@@ -27,6 +27,7 @@ BASE = {
 }
 SPHERE = {"radius": 5.0, "centre": [0.0, 0.0, -5.0], "travel": [0.0, 0.0, 3.0], "penalty": 10.0}
 PLANE = {"shape": "plane", "point": [0, 0, 2.0], "normal": [0, 0, -1], "travel": [0, 0, -2.0]}
+REVOLUTION = {"shape": "revolution", "profile": [[0, 5.0], [10, 6.0]], "start_scale": 0.5}
 
 
 def problems_of(data) -> list[str]:
@@ -54,6 +55,31 @@ def test_a_scene_in_space_reads_and_round_trips():
     )
     resolved = scene.resolved(fidelity_level("fast"))
     assert scene_from_dict(tomllib.loads(resolved.to_toml())) == resolved
+    scene = scene_from_dict({**BASE, "space": {}, "indenter": REVOLUTION})
+    body = scene.part.space.indenter
+    assert (body.profile, body.start_scale, body.travel) == (
+        ((0.0, 5.0), (10.0, 6.0)),
+        0.5,
+        (0.0, 0.0, 0.0),
+    )
+    resolved = scene.resolved(fidelity_level("fast"))
+    assert scene_from_dict(tomllib.loads(resolved.to_toml())) == resolved
+
+
+def test_a_body_of_revolution_must_grow_or_move_and_have_a_profile():
+    def indenter(table):
+        return problems_of({**BASE, "space": {}, "indenter": table})
+
+    assert indenter({**REVOLUTION, "start_scale": 1.0}) == [
+        "indenter: indenter.travel=(0, 0, 0): the indenter must move (or a body of revolution "
+        "grow: start_scale < 1)"
+    ]
+    assert indenter({**REVOLUTION, "profile": [[0, 5.0], [0, 6.0]]}) == [
+        "indenter: indenter.profile: a radius profile's z=[0.0, 0.0] mm must increase"
+    ]
+    assert indenter({**REVOLUTION, "start_scale": 1.5}) == [
+        "indenter: indenter.start_scale=1.5 is outside (0, 1]"
+    ]
 
 
 def test_an_indenter_takes_the_keys_of_its_shape():
@@ -68,7 +94,7 @@ def test_an_indenter_takes_the_keys_of_its_shape():
         "indenter.centre: unknown key (valid: shape, travel, penalty)",
     ]
     assert indenter({"shape": "cone", "travel": [0, 0, 1]}) == [
-        "indenter: indenter.shape='cone' is not one of sphere, plane"
+        "indenter: indenter.shape='cone' is not one of sphere, plane, revolution"
     ]
     assert indenter({key: v for key, v in PLANE.items() if key != "normal"}) == [
         "indenter: indenter.normal: a plane needs it"
@@ -170,7 +196,7 @@ def test_the_command_line_exits_2_on_a_plane_behind_the_fabric(tmp_path, capsys)
     assert "(gap -0.5 mm)" in error
 
 
-@pytest.mark.parametrize("indenter", [SPHERE, PLANE])
+@pytest.mark.parametrize("indenter", [SPHERE, PLANE, REVOLUTION])
 def test_the_fabric_job_in_space_survives_its_json_round_trip(indenter):
     """The mpirun path sends the job as JSON: the part's space comes back equal."""
     from knitmech.jobs.fabric_spec import FabricJob, RegionMaterial  # noqa: PLC0415

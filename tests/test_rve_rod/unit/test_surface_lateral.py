@@ -1,10 +1,23 @@
 """The free lateral strain of homogeneous uniaxial tension is the root nearest to the reference
 state, also when a fitted surface turns over far outside its data."""
 
+import numpy as np
 import pytest
 
 from rve_rod.errors import InputError
-from rve_rod.surface.checks import _free_lateral_strain
+from rve_rod.surface.checks import _free_lateral_strains
+
+
+def polynomial(roots):
+    """lateral_stress of `_free_lateral_strains`: prod (e - root) and its derivative."""
+
+    def lateral_stress(e):
+        value, slope = np.ones_like(e), np.zeros_like(e)
+        for root in roots:
+            value, slope = value * (e - root), slope * (e - root) + value
+        return value, slope
+
+    return lateral_stress
 
 
 @pytest.mark.parametrize(
@@ -12,15 +25,21 @@ from rve_rod.surface.checks import _free_lateral_strain
     [((0.02, -0.3), 0.02), ((-0.047, 0.26), -0.047), ((0.113, 0.4, -0.45), 0.113)],
 )
 def test_root_nearest_to_zero_is_found(roots, nearest):
-    def lateral_stress(e):
-        value = 1.0
-        for root in roots:
-            value *= e - root
-        return value
+    found = _free_lateral_strains(polynomial(roots), np.array([0.1, 0.2]))
+    np.testing.assert_allclose(found, nearest, atol=1e-14)
 
-    assert _free_lateral_strain(lateral_stress, 0.1) == pytest.approx(nearest, abs=1e-14)
+
+def test_each_strain_gets_its_own_root():
+    """Strain i's lateral stress (e + 0.1 i)(e - 0.3): roots -0, -0.1, -0.2 (nearest to 0)."""
+
+    def lateral_stress(e):
+        shift = 0.1 * np.resize(np.arange(3.0), e.size)
+        return (e + shift) * (e - 0.3), 2 * e + shift - 0.3
+
+    found = _free_lateral_strains(lateral_stress, np.array([0.05, 0.1, 0.2]))
+    np.testing.assert_allclose(found, [0.0, -0.1, -0.2], atol=1e-14)
 
 
 def test_no_root_is_an_input_error_naming_the_strain():
     with pytest.raises(InputError, match=r"at strain 0.15 no lateral strain"):
-        _free_lateral_strain(lambda e: 1.0 + e**2, 0.15)
+        _free_lateral_strains(lambda e: (1.0 + e**2, 2 * e), np.array([0.15]))
