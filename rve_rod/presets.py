@@ -13,6 +13,7 @@ from functools import cache
 from importlib.resources import files
 
 from rve_rod.errors import InputError, check_positive, check_range
+from rve_rod.pattern.chart import JERSEY, pattern_chart
 
 __all__ = [
     "MAX_COURSE_HEIGHT_RADII",
@@ -99,23 +100,28 @@ class Yarn:
 
 @dataclass(frozen=True)
 class Knit:
-    """Knit geometry inputs of one single-jersey loop.
+    """Knit geometry inputs: the loop and the stitch pattern.
 
     Attributes:
-        wale_width: w, loop period across the wales, along x (mm).
+        wale_width: w, loop period across the wales, along x (mm): the width of one loop.
         course_height: c, loop period along the wales, along y (mm).
         measured_loop_length: loop length measured by unravelling (mm), or None.
         stitch_value: knitting-machine stitch setting (mm), or None.
+        pattern: the stitch pattern's face chart, its rows bottom first (`rve_rod.pattern`;
+            given also as a pattern name, e.g. "rib1x1", and stored as the chart's rows);
+            single jersey ("K",) by default.
     """
 
     wale_width: float
     course_height: float
     measured_loop_length: float | None = None
     stitch_value: float | None = None
+    pattern: tuple[str, ...] = JERSEY
 
     def __post_init__(self):
         check_positive("wale_width", self.wale_width, "mm")
         check_positive("course_height", self.course_height, "mm")
+        object.__setattr__(self, "pattern", pattern_chart(self.pattern).rows)
 
 
 @dataclass(frozen=True)
