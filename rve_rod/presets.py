@@ -217,6 +217,7 @@ def make_fabric(
     youngs_modulus: float | None = None,
     poissons_ratio: float | None = None,
     friction: float | None = None,
+    pattern=None,
     need_material: bool = True,
 ) -> Fabric:
     """A fabric from a preset and/or explicit values; explicit values override the preset's.
@@ -229,6 +230,9 @@ def make_fabric(
         stitch: the preset's stitch value (mm), see `load_preset`; needs a preset.
         wale_width: w (mm). course_height: c (mm). yarn_radius: r0 (mm).
         youngs_modulus: E0 (MPa). poissons_ratio: nu (-). friction: mu (-).
+        pattern: the stitch pattern, a name or a chart (`rve_rod.pattern.pattern_chart`);
+            None: single jersey. A preset's w and c are measured on its single jersey: for
+            another pattern `rve_rod.geometry.relaxed.settled_fabric` replaces them.
         need_material: without a preset, whether youngs_modulus is required (geometry alone
             does not need it; then E0 = 1 MPa stands in).
 
@@ -259,7 +263,11 @@ def make_fabric(
         "poissons_ratio": poissons_ratio,
         "friction_coefficient": friction,
     }
-    knit_overrides = {"wale_width": wale_width, "course_height": course_height}
+    knit_overrides = {
+        "wale_width": wale_width,
+        "course_height": course_height,
+        "pattern": pattern,
+    }
     return Fabric(
         yarn=replace(yarn, **{k: v for k, v in yarn_overrides.items() if v is not None}),
         knit=replace(knit, **{k: v for k, v in knit_overrides.items() if v is not None}),
