@@ -15,6 +15,7 @@ from rve_rod.pattern import periodic_cell
 from rve_rod.presets import load_preset
 from rve_rod.rod.layout import DOFS_PER_POINT
 from rve_rod.rve.cell import CellSettings
+from rve_rod.rve.engine import fabric_settings
 from rve_rod.rve.load_cases import load_case
 from rve_rod.rve.simulation import RveSettings, build_cell, loop_curves, run_cell, simulate
 from rve_rod.rve.yarn import YarnSettings
@@ -154,3 +155,14 @@ def test_rib_and_seed_are_orthotropic(pattern, name):
     result = simulate(fabric, load_case(name, 0.06, 4), settings(36, friction=True))
     P = first_piola(result)[-1]
     assert max(abs(P[0, 1]), abs(P[1, 0])) < 0.03 * np.abs(P).max()
+
+
+def test_moss_runs_with_the_settings_of_a_cell_of_several_courses():
+    """Moss: two courses of two loops on an oblique lattice, crossing sinkers and stepping legs.
+    Its cell runs with `fabric_settings` (every system factorized anew: refined solves with
+    older factors miss the soft modes of the ties and stop at the first step)."""
+    fabric = with_pattern(load_preset("cotton-20s2", 5.5), "moss")
+    result = simulate(fabric, load_case("uniaxial-course", 0.1, 5), fabric_settings(fabric, 36))
+    assert result.complete
+    assert len(result.curves) == 2
+    assert (np.diff(result.series("force_gf_per_cm")) > 0).all()
