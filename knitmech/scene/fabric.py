@@ -351,9 +351,9 @@ def pattern_problems(prefix: str, knit: dict) -> list[str]:
 
 
 def region_knit(fabric: dict, region: RegionSpec) -> dict[str, Any]:
-    """The `make_fabric` arguments of a region's knit: the [fabric] knit values (`fabric`, a
-    mapping of KNIT_KEYS) with the region's on top; a region's preset replaces them all, its
-    pattern or chart the [fabric]'s pattern and chart."""
+    """The knit values of a region (`knit_fabric` makes its Fabric): the [fabric] knit values
+    (`fabric`, a mapping of KNIT_KEYS) with the region's on top; a region's preset replaces
+    them all, its pattern or chart the [fabric]'s pattern and chart."""
     if "preset" in region.knit:
         return dict(region.knit)
     if any(key in region.knit for key in ("pattern", "chart")):

@@ -237,7 +237,6 @@ class LoopCell:
         self.coupling = ContactCoupling(contact, self.macro, n)
         self._period = period
         self._cuts = tuple(RodEnd(k, END) for k in range(len(self.curves)))
-        self._cut = self._cuts[0]
         self._support_columns = offset + free + np.arange(SUPPORT_UNKNOWNS)
         self._regularization = settings.lateral_stiffness * yarn.section.axial / knit.course_height
         middle = 0.5 * self.curve.domain[1]
@@ -354,18 +353,17 @@ class LoopCell:
         """Control-point positions (n, 3) of the patch (mm)."""
         return self.coupling.positions(state)
 
-    def cut_force(self, state: np.ndarray) -> tuple[np.ndarray, list]:
-        """The internal force at the cuts summed over the patches (3,) (N), and the EndValues
-        of each cut."""
+    def cut_force(self, state: np.ndarray) -> np.ndarray:
+        """The internal force at the cuts summed over the patches, (3,) (N)."""
         ends = [self.model.end_values(state, cut) for cut in self._cuts]
         force = ends[0].force
         for end in ends[1:]:
             force = force + end.force
-        return force, ends
+        return force
 
     def evaluate_state(self, state: np.ndarray, load_factor: float) -> CellState:
         """Macro F, P (with its parts), cut force and support reaction of a state."""
-        force, _ = self.cut_force(state)
+        force = self.cut_force(state)
         stress = macro_stress(self.coupling, force, state, load_factor)
         stress = stress._replace(first_piola=stress.first_piola - self.rest_stress)
         regularization = np.zeros((2, 2))

@@ -11,7 +11,7 @@ of the cell's energy with respect to F per reference area A0 = w c. F enters in 
 the end position (x_end = x_start + F a1), where the yarn transmits its internal force n, and
 the image positions, where the contacts with the images act. Hence (virtual work)
 
-    P = ( n_cut (x) a1  +  1/2 sum_k w_k f_k (x) L_k ) / (w c)
+    P = ( n_cut (x) a1  +  1/2 sum_k w_k f_k (x) L_k ) / A0,    A0 = w c for one loop
 
 with f_k the line load of contact k on its slave collocation point (force on the cell from
 image L_k), w_k that point's collocation weight (the integral of the line load's spline
