@@ -13,6 +13,7 @@ from functools import cache
 from importlib.resources import files
 
 from rve_rod.errors import InputError, check_positive, check_range
+from rve_rod.pattern.chart import JERSEY, pattern_chart
 
 __all__ = [
     "MAX_COURSE_HEIGHT_RADII",
@@ -99,23 +100,28 @@ class Yarn:
 
 @dataclass(frozen=True)
 class Knit:
-    """Knit geometry inputs of one single-jersey loop.
+    """Knit geometry inputs: the loop and the stitch pattern.
 
     Attributes:
-        wale_width: w, loop period across the wales, along x (mm).
+        wale_width: w, loop period across the wales, along x (mm): the width of one loop.
         course_height: c, loop period along the wales, along y (mm).
         measured_loop_length: loop length measured by unravelling (mm), or None.
         stitch_value: knitting-machine stitch setting (mm), or None.
+        pattern: the stitch pattern's face chart, its rows bottom first (`rve_rod.pattern`;
+            given also as a pattern name, e.g. "rib1x1", and stored as the chart's rows);
+            single jersey ("K",) by default.
     """
 
     wale_width: float
     course_height: float
     measured_loop_length: float | None = None
     stitch_value: float | None = None
+    pattern: tuple[str, ...] = JERSEY
 
     def __post_init__(self):
         check_positive("wale_width", self.wale_width, "mm")
         check_positive("course_height", self.course_height, "mm")
+        object.__setattr__(self, "pattern", pattern_chart(self.pattern).rows)
 
 
 @dataclass(frozen=True)
@@ -211,6 +217,7 @@ def make_fabric(
     youngs_modulus: float | None = None,
     poissons_ratio: float | None = None,
     friction: float | None = None,
+    pattern=None,
     need_material: bool = True,
 ) -> Fabric:
     """A fabric from a preset and/or explicit values; explicit values override the preset's.
@@ -223,6 +230,9 @@ def make_fabric(
         stitch: the preset's stitch value (mm), see `load_preset`; needs a preset.
         wale_width: w (mm). course_height: c (mm). yarn_radius: r0 (mm).
         youngs_modulus: E0 (MPa). poissons_ratio: nu (-). friction: mu (-).
+        pattern: the stitch pattern, a name or a chart (`rve_rod.pattern.pattern_chart`);
+            None: single jersey. A preset's w and c are measured on its single jersey: for
+            another pattern `rve_rod.geometry.relaxed.settled_fabric` replaces them.
         need_material: without a preset, whether youngs_modulus is required (geometry alone
             does not need it; then E0 = 1 MPa stands in).
 
@@ -253,7 +263,11 @@ def make_fabric(
         "poissons_ratio": poissons_ratio,
         "friction_coefficient": friction,
     }
-    knit_overrides = {"wale_width": wale_width, "course_height": course_height}
+    knit_overrides = {
+        "wale_width": wale_width,
+        "course_height": course_height,
+        "pattern": pattern,
+    }
     return Fabric(
         yarn=replace(yarn, **{k: v for k, v in yarn_overrides.items() if v is not None}),
         knit=replace(knit, **{k: v for k, v in knit_overrides.items() if v is not None}),

@@ -1,8 +1,8 @@
 """Yarn centrelines as VTK files for ParaView: polylines with point data, via meshio.
 
 `write_polylines` writes any set of centrelines (the loop geometry of `rve-rod geometry`);
-`write_vtk` the deformed yarns of an RVE run, one .vtu per output state: the cell's yarn and
-its periodic neighbours (the images x + F L for |i|, |j| <= `neighbours`) as polylines sampled
+`write_vtk` the deformed yarns of an RVE run, one .vtu per output state: the cell's yarns and
+their periodic neighbours (the images x + F L for |i|, |j| <= `neighbours`) as polylines sampled
 along the centreline, with point data `radius` (mm, the adjusted yarn radius), `image_i`,
 `image_j` and `arc_parameter` (the patch parameter in quarter loops).
 
@@ -105,8 +105,7 @@ def write_vtk(result: "RveResult", folder, neighbours: int = 1) -> list[Path]:
     folder.mkdir(parents=True, exist_ok=True)
     low, high = result.curve.domain
     parameters = np.linspace(low, high, int(SAMPLES_PER_QUARTER * (high - low)) + 1)
-    knit = result.fabric.knit
-    lattice = np.array([[knit.wale_width, 0.0, 0.0], [0.0, knit.course_height, 0.0]])
+    lattice = result.cell_lattice
     shifts = [
         (i, j)
         for i in range(-neighbours, neighbours + 1)
@@ -116,15 +115,18 @@ def write_vtk(result: "RveResult", folder, neighbours: int = 1) -> list[Path]:
     for index, step in enumerate(result.steps):
         F = np.eye(3)
         F[:2, :2] = step.deformation
-        centreline = result.centreline(index)(parameters)
+        centrelines = [
+            result.centreline(index, patch)(parameters) for patch in range(len(result.curves))
+        ]
         offsets = [F @ (i * lattice[0] + j * lattice[1]) for i, j in shifts]
         data = {
-            "image_i": [np.full(parameters.size, float(i)) for i, _ in shifts],
-            "image_j": [np.full(parameters.size, float(j)) for _, j in shifts],
-            "arc_parameter": [parameters] * len(shifts),
+            "image_i": [np.full(parameters.size, float(i)) for i, _ in shifts for _ in centrelines],
+            "image_j": [np.full(parameters.size, float(j)) for _, j in shifts for _ in centrelines],
+            "arc_parameter": [parameters] * (len(shifts) * len(centrelines)),
         }
         path = folder / f"state_{index:03d}.vtu"
-        write_polylines(path, [centreline + offset for offset in offsets], result.yarn.radius, data)
+        lines = [line + offset for offset in offsets for line in centrelines]
+        write_polylines(path, lines, result.yarn.radius, data)
         paths.append(path)
     strains = [step.strain for step in result.steps]
     return [*paths, write_pvd(folder / "states.pvd", paths, strains)]

@@ -17,6 +17,7 @@ Who checks what:
     demos/demo_measure_photo.py)
   BALL_BURST: tests/test_knitmech/validation/test_space_examples.py
   PAPER_COMPARISON_FAST: tests/test_rve_rod/regression/test_pinned_paper_comparison.py
+  PATTERNS, PATTERN_RUNS: tests/test_rve_rod/regression/test_pinned_patterns.py
 
 Every value was measured on the shared 2-core machine at commit 3172971 (version 0.2.1, loop
 model 0.2) with Debian 12's numpy 1.24, scipy, numba 0.56 and DOLFINx 0.5.2, the way the test
@@ -268,6 +269,32 @@ DESIGN_FAST = {
     "sleeve band 4 stitch": Pin(5.842444843300854, SOLVED, DESIGN),
 }
 
+# Stitch patterns (issue 28; docs/patterns.md), measured at the commit that added them: the
+# template cells at cotton 20s/2 stitch 5.5's w and c (depth in yarn radii, yarn per loop in mm;
+# searches, hence 1e-5), the relaxed jersey cell of stitch 4.5's loop length (mm), and the
+# rib's course-wise and the garter's wale-wise RVE at 36 control points, 0-20 % in 5 states
+# with friction (`fabric_settings`; no cutback), forces in gf/cm, Poisson ratios at 20 %:
+# tests/test_rve_rod/regression/test_pinned_patterns.py.
+PATTERNS_DOC = "docs/patterns.md (the template cell, the relaxed cell)"
+PATTERNS = {
+    "rib1x1 depth / r": Pin(5.6670912331103604, 1e-5, PATTERNS_DOC),
+    "rib1x1 yarn per loop": Pin(7.564411129058698, 1e-5, PATTERNS_DOC),
+    "garter depth / r": Pin(2.0412703735751356, 1e-5, PATTERNS_DOC),
+    "garter yarn per loop": Pin(5.670050095266986, 1e-5, PATTERNS_DOC),
+    "seed depth / r": Pin(5.554322319095481, 1e-5, PATTERNS_DOC),
+    "seed yarn per loop": Pin(8.442580401492641, 1e-5, PATTERNS_DOC),
+    "relaxed jersey 4.5 w": Pin(1.2201241539926766, 1e-5, PATTERNS_DOC),
+    "relaxed jersey 4.5 c": Pin(0.8540869077948736, 1e-5, PATTERNS_DOC),
+}
+PATTERN_RUNS = {
+    "rib1x1 course force 10 %": Pin(0.8558430527688831, SOLVED, PATTERNS_DOC),
+    "rib1x1 course force 20 %": Pin(1.391532460845073, SOLVED, PATTERNS_DOC),
+    "rib1x1 course Poisson ratio 20 %": Pin(0.47490114819677354, SOLVED, PATTERNS_DOC),
+    "garter wale force 10 %": Pin(17.476798229763876, SOLVED, PATTERNS_DOC),
+    "garter wale force 20 %": Pin(44.485223602330485, SOLVED, PATTERNS_DOC),
+    "garter wale Poisson ratio 20 %": Pin(0.5525225346649149, SOLVED, PATTERNS_DOC),
+}
+
 TABLES = {
     "RVE_FAST": RVE_FAST,
     "RVE_PAPER_RESOLUTION": RVE_PAPER_RESOLUTION,
@@ -282,6 +309,8 @@ TABLES = {
     "BALL_BURST": BALL_BURST,
     "PAPER_COMPARISON_FAST": PAPER_COMPARISON_FAST,
     "DESIGN_FAST": DESIGN_FAST,
+    "PATTERNS": PATTERNS,
+    "PATTERN_RUNS": PATTERN_RUNS,
 }
 
 

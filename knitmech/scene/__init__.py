@@ -14,13 +14,19 @@ from pathlib import Path
 from typing import Any
 
 from knitmech.fidelity import DEFAULT, LEVELS, Fidelity
-from knitmech.scene.fabric import PartSpec, part_toml, read_part
+from knitmech.scene.fabric import (
+    PartSpec,
+    knit_fabric,
+    part_toml,
+    pattern_problems,
+    read_part,
+)
 from knitmech.scene.fabric import toml_value as _toml_value
 from knitmech.scene.keys import describe, read_toml, unknown_key
 from knitmech.scene.space import SPACE_TABLES
 from rve_rod import limits
 from rve_rod.errors import InputError
-from rve_rod.presets import Fabric, load_preset, make_fabric
+from rve_rod.presets import Fabric, load_preset
 from rve_rod.rve.yarn import BENDING_CHOICES
 
 __all__ = [
@@ -77,7 +83,11 @@ class FabricSpec:
     yarn_radius and youngs_modulus are required. `bending` is the RVE's model of the yarn's
     bending and twisting rigidity (`rve_rod.rve.yarn.BENDING_CHOICES`: "auto", the default, is
     "free-fibres" where the yarn's fibres are known and "section" where not; "free-fibres"
-    needs a preset with fibre data).
+    needs a preset with fibre data). The stitch pattern is `pattern` (a name, e.g. "rib1x1",
+    or a chart as one string, "KP,PK") or `chart` (its rows, bottom first), single jersey by
+    default (docs/patterns.md); a preset's w and c are measured on its jersey, so another
+    pattern takes those of its relaxed cell unless wale_width and course_height are given;
+    `relaxed = true` takes them for jersey too.
     """
 
     preset: str | None = None
@@ -89,6 +99,9 @@ class FabricSpec:
     poissons_ratio: float | None = None
     friction: float | None = None
     bending: str = "auto"
+    pattern: str | None = None
+    chart: tuple[str, ...] | None = None
+    relaxed: bool | None = None
 
 
 @dataclass(frozen=True)
@@ -202,7 +215,7 @@ class Scene:
         """The yarn and knit of the scene: the preset's values with the explicit ones on top."""
         values = asdict(self.fabric)
         del values["bending"]  # a model choice of the RVE, not fabric data
-        return make_fabric(**values)
+        return knit_fabric(values)
 
 
 def default_scene_path() -> Path:
@@ -292,6 +305,9 @@ _TYPES: dict[str, dict[str, tuple[type, ...]]] = {
         "poissons_ratio": (float,),
         "friction": (float,),
         "bending": (str,),
+        "pattern": (str,),
+        "chart": (list,),
+        "relaxed": (bool,),
     },
     "meso": {"cases": (list,), "max_strain": (float,), "steps": (int,), "control_points": (int,)},
     "surface": {
@@ -325,7 +341,7 @@ def _read_section(name: str, cls: type, table: dict, problems: list[str]):
         value = raw
         if float in expected and isinstance(raw, int) and not isinstance(raw, bool):
             value = float(raw)
-        if isinstance(value, bool) or not isinstance(value, expected):
+        if (isinstance(value, bool) and bool not in expected) or not isinstance(value, expected):
             wanted = " or ".join(t.__name__ for t in expected)
             problems.append(f"{name}.{key}: expected {wanted}, got {describe(value)}")
             continue
@@ -348,6 +364,7 @@ def _check_values(
         problems.append(f"fabric.poissons_ratio: {fabric.poissons_ratio} is outside [0, 0.5)")
     if fabric.friction is not None and fabric.friction < 0:
         problems.append(f"fabric.friction: {fabric.friction} must be >= 0")
+    problems += pattern_problems("fabric", asdict(fabric))
     if fabric.bending not in BENDING_CHOICES:
         problems.append(
             f"fabric.bending: {fabric.bending!r} is unknown (valid: {', '.join(BENDING_CHOICES)})"

@@ -46,17 +46,23 @@ from fabric_dolfinx.spec.part import (
     shape_size,
 )
 from fabric_dolfinx.spec.space import SpaceSpec
-from knitmech.scene.keys import check_keys, number
+from knitmech.scene.keys import check_keys, describe, number
 from knitmech.scene.space import read_space, space_toml
 from rve_rod.errors import InputError
-from rve_rod.presets import load_preset, make_fabric, stitch_values
+from rve_rod.geometry.relaxed import settled_fabric
+from rve_rod.pattern import pattern_chart
+from rve_rod.presets import Fabric, load_preset, make_fabric, stitch_values
 
 __all__ = [
     "KNIT_KEYS",
+    "PATTERN_KEYS",
     "PartSpec",
     "RegionSpec",
+    "fabric_arguments",
+    "knit_fabric",
     "part_problems",
     "part_toml",
+    "pattern_problems",
     "read_part",
     "region_knit",
 ]
@@ -70,9 +76,15 @@ KNIT_KEYS = (
     "youngs_modulus",
     "poissons_ratio",
     "friction",
+    "pattern",
+    "chart",
+    "relaxed",
 )
 """Keys of a region that change its knit (as in [fabric]; a region's preset replaces the
-[fabric] knit, its other values override)."""
+[fabric] knit, its other values override; its pattern or chart replaces the [fabric]'s)."""
+
+PATTERN_KEYS = ("pattern", "chart", "relaxed")
+"""The knit keys that are not numbers: the stitch pattern (`knit_fabric`)."""
 
 SVK_KEYS = ("course_stiffness", "wale_stiffness", "poissons_ratio", "shear_stiffness")
 
@@ -195,7 +207,7 @@ def read_part(
             and None not in region.knit.values()
         ):
             try:
-                make_fabric(**region_knit(fabric_table, region))
+                make_fabric(**fabric_arguments(region_knit(fabric_table, region))[0])
             except (InputError, TypeError) as error:
                 problems.append(f"region[{index}]: {error}")
     boundary_specs = tuple(
@@ -370,11 +382,58 @@ def _graded_members(
     return replace(region, members=tuple(values[first : last + 1]))
 
 
+def knit_fabric(values: dict) -> Fabric:
+    """The Fabric of knit values (a [fabric] table's or a region's: the `make_fabric`
+    arguments, with `chart` for the pattern's rows and `relaxed`), its w and c settled for
+    its pattern (`rve_rod.geometry.relaxed.settled_fabric`: a preset's are its jersey's,
+    another pattern takes its relaxed cell's unless w and c are given)."""
+    arguments, relaxed = fabric_arguments(values)
+    fabric = make_fabric(**arguments)
+    measured = any(arguments.get(key) is not None for key in ("wale_width", "course_height"))
+    return settled_fabric(fabric, relaxed=relaxed, measured=measured)
+
+
+def fabric_arguments(values: dict) -> tuple[dict[str, Any], bool | None]:
+    """The `make_fabric` arguments of knit values (`chart` made the pattern) and `relaxed`."""
+    arguments = dict(values)
+    relaxed = arguments.pop("relaxed", None)
+    chart = arguments.pop("chart", None)
+    if chart is not None:
+        arguments["pattern"] = tuple(chart)
+    return arguments, relaxed
+
+
+def pattern_problems(prefix: str, knit: dict) -> list[str]:
+    """The problems of the pattern keys of a knit table (one line each)."""
+    problems = []
+    pattern, chart, relaxed = (knit.get(key) for key in PATTERN_KEYS)
+    if pattern is not None and chart is not None:
+        problems.append(f"{prefix}: give pattern or chart, not both")
+    for key, value in (("pattern", pattern), ("chart", chart)):
+        if value is None:
+            continue
+        try:
+            pattern_chart(list(value) if key == "chart" else value).check_modelled()
+        except InputError as error:
+            problems.append(f"{prefix}.{key}: {error}")
+    if relaxed is not None and not isinstance(relaxed, bool):
+        problems.append(f"{prefix}.relaxed: expected true or false, got {describe(relaxed)}")
+    elif relaxed and any(knit.get(key) is not None for key in ("wale_width", "course_height")):
+        problems.append(
+            f"{prefix}.relaxed: finds wale_width and course_height from the loop length; "
+            "give relaxed or wale_width and course_height, not both"
+        )
+    return problems
+
+
 def region_knit(fabric: dict, region: RegionSpec) -> dict[str, Any]:
-    """The `make_fabric` arguments of a region's knit: the [fabric] knit values (`fabric`, a
-    mapping of KNIT_KEYS) with the region's on top; a region's preset replaces them all."""
+    """The knit values of a region (`knit_fabric` makes its Fabric): the [fabric] knit values
+    (`fabric`, a mapping of KNIT_KEYS) with the region's on top; a region's preset replaces
+    them all, its pattern or chart the [fabric]'s pattern and chart."""
     if "preset" in region.knit:
         return dict(region.knit)
+    if any(key in region.knit for key in ("pattern", "chart")):
+        fabric = {k: v for k, v in fabric.items() if k not in ("pattern", "chart")}
     base = {key: fabric[key] for key in KNIT_KEYS if fabric.get(key) is not None}
     return {**base, **region.knit}
 
@@ -499,8 +558,9 @@ def _read_region(index: int, table: dict, problems: list[str], base: Path | None
             load_preset(knit["preset"], knit.get("stitch"))
         except InputError as error:
             problems.append(f"{prefix}.{'stitch' if 'stitch' in str(error) else 'preset'}: {error}")
+    problems += pattern_problems(prefix, knit)
     for key in KNIT_KEYS[1:]:
-        if key in knit:
+        if key in knit and key not in PATTERN_KEYS:
             value = number(
                 f"{prefix}.{key}", knit[key], problems, low=-1.0 if key == "poissons_ratio" else 0.0
             )

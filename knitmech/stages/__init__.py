@@ -24,12 +24,14 @@ from knitmech.stages.records import GeometrySummary, MesoSummary, PatchJob, Surf
 from rve_rod.cache import ResultCache
 from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.loop import loop_geometry
+from rve_rod.geometry.pattern_cell import pattern_geometry
 from rve_rod.homogenize.acceptance import SOFTENING_TOLERANCE
 from rve_rod.homogenize.executors import ExecutorChoice
 from rve_rod.homogenize.fit import FitOptions
 from rve_rod.homogenize.generate import engine_identity, generate_surface
 from rve_rod.homogenize.sampling import SamplingPlan
 from rve_rod.jsonable import to_jsonable
+from rve_rod.pattern import JERSEY
 from rve_rod.presets import Fabric
 from rve_rod.rve import RodRve, RveSettings, load_case, simulate
 from rve_rod.rve.engine import fabric_settings
@@ -119,18 +121,24 @@ def _fabric_inputs(fabric: Fabric) -> dict:
 
 
 def geometry_stage(plan: RunPlan) -> Stage:
-    """The loop of the fabric: its numbers and a figure (`figures/loop.png`)."""
+    """The loop of the fabric: its numbers and a figure (`figures/loop.png`); for a stitch
+    pattern other than jersey the template of its cell (`rve_rod.geometry.pattern_cell`), its
+    numbers only."""
     knit, radius = plan.fabric.knit, plan.fabric.yarn.minimal_radius
     inputs = {
         "version": STAGE_VERSION,
         "wale_width": knit.wale_width,
         "course_height": knit.course_height,
         "minimal_radius": radius,
+        "pattern": knit.pattern,
     }
 
     def compute(folder: Path) -> dict:
         from rve_rod.geometry.plot import plot_loop  # noqa: PLC0415 (matplotlib on demand)
 
+        if knit.pattern != JERSEY:
+            cell = pattern_geometry(knit.pattern, knit.wale_width, knit.course_height, radius)
+            return GeometrySummary(cell.to_dict()).to_json()
         geometry = loop_geometry(knit, radius)
         (folder / "figures").mkdir()
         plot_loop(geometry, folder / "figures" / "loop.png")

@@ -16,10 +16,11 @@ from typing import NamedTuple
 
 from knitmech.jobs.fabric_spec import FabricJob, RegionMaterial
 from knitmech.jobs.launch import run_job
-from knitmech.scene.fabric import region_knit
+from knitmech.scene.fabric import knit_fabric, region_knit
 from knitmech.stages import STAGE_VERSION, SURFACE_FILE, RunPlan, file_digest
 from knitmech.stages.cache import Stage
-from rve_rod.presets import Fabric, make_fabric
+from rve_rod.pattern import pattern_chart
+from rve_rod.presets import Fabric
 
 __all__ = [
     "KnitSurfaces",
@@ -60,7 +61,7 @@ def knit_surfaces(plan: RunPlan) -> KnitSurfaces:
     families: list[tuple[tuple[float, str], ...] | None] = []
 
     def label_of(arguments: dict) -> str:
-        fabric = make_fabric(**arguments)
+        fabric = knit_fabric(arguments)
         if fabric == plan.fabric:
             return ""
         label = next((k for k, v in others.items() if v == fabric), None)
@@ -88,10 +89,16 @@ def knit_surfaces(plan: RunPlan) -> KnitSurfaces:
 
 def knit_label(arguments: dict, count: int) -> str:
     """The folder name of a knit's surface under `knits/`: `<preset>_stitch-<s>` for a preset
-    knit, `knit-<count + 1>` for one with values of its own."""
-    if set(arguments) <= {"preset", "stitch"} and "preset" in arguments:
+    knit (with `_<pattern>` when a pattern is given), `knit-<count + 1>` for one with
+    values of its own."""
+    if set(arguments) <= {"preset", "stitch", "pattern", "chart"} and "preset" in arguments:
         stitch = arguments.get("stitch")
-        return arguments["preset"] + (f"_stitch-{stitch:g}" if stitch is not None else "")
+        label = arguments["preset"] + (f"_stitch-{stitch:g}" if stitch is not None else "")
+        pattern = arguments.get("pattern") or arguments.get("chart")
+        if pattern is not None:  # a name, or the chart's rows joined by dashes
+            chart = pattern_chart(list(pattern) if isinstance(pattern, tuple) else pattern)
+            label += "_" + (chart.name or "-".join(chart.rows))
+        return label
     return f"knit-{count + 1}"
 
 

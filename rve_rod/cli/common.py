@@ -5,8 +5,10 @@ import json
 import sys
 
 from rve_rod import limits
+from rve_rod.geometry.relaxed import settled_fabric
 from rve_rod.jsonable import to_jsonable
 from rve_rod.outputs import ignore_broken_pipe
+from rve_rod.pattern import NAMED_PATTERNS
 from rve_rod.presets import Fabric, make_fabric, preset_names, stitch_values
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.yarn import BENDING_CHOICES, YarnSettings
@@ -38,6 +40,18 @@ def add_fabric_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--youngs-modulus", type=float, help="E0 of the yarn (MPa)")
     group.add_argument("--poissons-ratio", type=float, help="nu of the yarn (-)")
     group.add_argument("--friction", type=float, help="mu, yarn-on-yarn friction (-)")
+    group.add_argument(
+        "--pattern",
+        help=f"stitch pattern: {', '.join(NAMED_PATTERNS)}, or a face chart, rows of K and P "
+        "bottom row first, separated by commas (e.g. KP,PK); default jersey. A preset's w and "
+        "c are its jersey's: another pattern takes those of its relaxed cell (docs/patterns.md)",
+    )
+    group.add_argument(
+        "--relaxed",
+        action="store_true",
+        help="w and c of the relaxed cell from the preset's loop length, for jersey too "
+        "(not with --wale-width/--course-height)",
+    )
 
 
 def add_control_points_argument(parser: argparse.ArgumentParser) -> None:
@@ -65,8 +79,9 @@ def add_bending_argument(parser: argparse.ArgumentParser) -> None:
 
 
 def fabric_from_args(args: argparse.Namespace, *, need_material: bool = True) -> Fabric:
-    """The fabric named by `add_fabric_arguments` options (`rve_rod.presets.make_fabric`)."""
-    return make_fabric(
+    """The fabric named by `add_fabric_arguments` options (`rve_rod.presets.make_fabric`),
+    its w and c settled for its pattern (`rve_rod.geometry.relaxed.settled_fabric`)."""
+    fabric = make_fabric(
         args.preset,
         args.stitch,
         wale_width=args.wale_width,
@@ -75,8 +90,11 @@ def fabric_from_args(args: argparse.Namespace, *, need_material: bool = True) ->
         youngs_modulus=args.youngs_modulus,
         poissons_ratio=args.poissons_ratio,
         friction=args.friction,
+        pattern=args.pattern,
         need_material=need_material,
     )
+    measured = args.wale_width is not None or args.course_height is not None
+    return settled_fabric(fabric, relaxed=args.relaxed or None, measured=measured)
 
 
 def print_json(payload: dict) -> None:

@@ -453,9 +453,14 @@ def join(curves, continuity: int, tolerance: float = 1e-9) -> BSplineCurve:
         at = before.domain[1]
         left = before.derivatives(np.array([at]), continuity)[:, 0]
         right = after.derivatives(np.array([at]), continuity)[:, 0]
+        # a derivative that vanishes at the join is compared with the curve's own scale,
+        # its extent over its parameter length to the derivative's order
+        extent = np.ptp(before.control_points, axis=0).max()
+        span = before.domain[1] - before.domain[0]
         for order in range(continuity + 1):
             size = max(np.abs(left[order]).max(), np.abs(right[order]).max(), 1e-300)
             jump = np.abs(left[order] - right[order]).max()
+            size = max(size, extent / span**order)
             if order == 0:
                 size = max(size, np.abs(before.control_points).max())
             if jump > tolerance * size:

@@ -21,7 +21,10 @@ __all__ = [
     "CONTROL_POINTS",
     "DEGREE",
     "SymmetryCondition",
+    "assembled_loop",
     "condition_rows",
+    "fit_coordinate",
+    "fit_fractions",
     "fit_quarter",
     "mirrored_loop",
     "symmetry_conditions",
@@ -41,15 +44,28 @@ def mirrored_loop(quarter: BSplineCurve, wale_width: float) -> tuple[BSplineCurv
     curve 3 its image under (x, y) -> (w/2 - x, -y) (reversed, from L to the sinker); curve 0
     the mirror image of curve 3 (from the previous sinker to L').
     """
+    return assembled_loop(quarter, quarter, quarter, wale_width)
+
+
+def assembled_loop(
+    head: BSplineCurve, left_foot: BSplineCurve, right_foot: BSplineCurve, wale_width: float
+) -> tuple[BSplineCurve, ...]:
+    """The 4 curves of one loop from three quarters that share the knots and the x-y shape
+    but may differ in z (a loop of a stitch pattern, `rve_rod.geometry.pattern_cell`): `head`
+    gives curves 2 and 1 as in `mirrored_loop`, `right_foot` curve 3 and `left_foot` curve 0
+    (each foot quarter runs from its sinker, at the quarter's apex, to L)."""
     mirror = np.array([-1.0, 1.0, 1.0])
-    points = quarter.control_points
-    turned = np.column_stack([wale_width / 2 - points[:, 0], -points[:, 1], points[:, 2]])
-    knots = 1.0 - quarter.knots[::-1]
+
+    def turned(quarter: BSplineCurve) -> np.ndarray:
+        points = quarter.control_points
+        return np.column_stack([wale_width / 2 - points[:, 0], -points[:, 1], points[:, 2]])
+
+    knots = 1.0 - head.knots[::-1]
     return (
-        BSplineCurve(quarter.degree, knots, (turned * mirror)),
-        BSplineCurve(quarter.degree, knots, (points * mirror)[::-1]),
-        quarter,
-        BSplineCurve(quarter.degree, knots, turned[::-1]),
+        BSplineCurve(head.degree, knots, (turned(left_foot) * mirror)),
+        BSplineCurve(head.degree, knots, (head.control_points * mirror)[::-1]),
+        head,
+        BSplineCurve(head.degree, knots, turned(right_foot)[::-1]),
     )
 
 
@@ -99,9 +115,8 @@ def fit_quarter(shape: "LoopShape") -> BSplineCurve:
     widest point W with x' = 0 there, so that the built-in contacts are exactly 2r in the
     spline as in the analytic model.
     """
-    sampled = shape.quarter_samples(_fit_fractions())
+    sampled = shape.quarter_samples(fit_fractions())
     knots = open_knot_vector(DEGREE, CONTROL_POINTS)
-    design = _design_matrix()
     at, widest = sampled.shoulder_fraction, sampled.shoulder
     pinned = (
         (SymmetryCondition(at, 0, widest[0]), SymmetryCondition(at, 1, 0.0)),
@@ -109,22 +124,27 @@ def fit_quarter(shape: "LoopShape") -> BSplineCurve:
         (SymmetryCondition(at, 0, widest[2]),),
     )
     control = np.empty((CONTROL_POINTS, 3))
-    n = CONTROL_POINTS
     for axis, symmetric in enumerate(symmetry_conditions(shape.wale_width)):
-        conditions = symmetric + pinned[axis]
-        k = len(conditions)
-        kkt = np.zeros((n + k, n + k))
-        kkt[:n, :n] = design.T @ design
-        kkt[:n, n:] = condition_rows(conditions).T
-        kkt[n:, :n] = condition_rows(conditions)
-        rhs = np.concatenate(
-            [design.T @ sampled.points[:, axis], [condition.value for condition in conditions]]
-        )
-        control[:, axis] = np.linalg.solve(kkt, rhs)[:n]
+        control[:, axis] = fit_coordinate(sampled.points[:, axis], symmetric + pinned[axis])
     return BSplineCurve(DEGREE, knots, control)
 
 
-def _fit_fractions() -> np.ndarray:
+def fit_coordinate(values: np.ndarray, conditions: tuple[SymmetryCondition, ...]) -> np.ndarray:
+    """The 12 control values of one coordinate of the quarter: least squares to its `values`
+    (mm) at the fit samples (`fit_fractions`) subject to the linear `conditions` (KKT system)."""
+    design = _design_matrix()
+    n = CONTROL_POINTS
+    k = len(conditions)
+    kkt = np.zeros((n + k, n + k))
+    kkt[:n, :n] = design.T @ design
+    kkt[:n, n:] = condition_rows(conditions).T
+    kkt[n:, :n] = condition_rows(conditions)
+    rhs = np.concatenate([design.T @ values, [condition.value for condition in conditions]])
+    return np.linalg.solve(kkt, rhs)[:n]
+
+
+def fit_fractions() -> np.ndarray:
+    """Arc-length fractions of the quarter at which it is sampled for the fit."""
     return np.linspace(0.0, 1.0, _FIT_SAMPLES)
 
 
@@ -143,4 +163,4 @@ def _basis_rows(params) -> np.ndarray:
 def _design_matrix() -> np.ndarray:
     """Basis functions of the quarter at the fit samples, (samples, control points)."""
     knots = open_knot_vector(DEGREE, CONTROL_POINTS)
-    return basis_matrix(knots, DEGREE, _fit_fractions()).toarray()
+    return basis_matrix(knots, DEGREE, fit_fractions()).toarray()

@@ -19,7 +19,9 @@ from rve_rod.errors import InputError, check_integer
 from rve_rod.geometry.bspline import BasisValues, BSplineCurve, basis_functions
 
 __all__ = [
+    "CellClearance",
     "ChainClearance",
+    "cell_clearance",
     "chain_clearance",
 ]
 
@@ -38,6 +40,24 @@ class ChainClearance(NamedTuple):
     """
 
     distance: float
+    first: float
+    second: float
+    image: tuple[int, int]
+
+
+class CellClearance(NamedTuple):
+    """The closest pair of the yarns of a cell and their images.
+
+    Attributes:
+        distance: centreline distance (mm).
+        yarns: (m, n), the yarn of the first point and the yarn whose image holds the second.
+        first: chain parameter of the point on yarn m (curve index + curve parameter).
+        second: chain parameter of the point on the image of yarn n.
+        image: (i, j) lattice offset of the image.
+    """
+
+    distance: float
+    yarns: tuple[int, int]
     first: float
     second: float
     image: tuple[int, int]
@@ -142,6 +162,109 @@ def chain_clearance(
         float(second[best] - shifts[best] * n),
         images[columns[best]],
     )
+
+
+def cell_clearance(
+    yarns: list[tuple[BSplineCurve, ...]], lattice: np.ndarray, adjacent_arc: float
+) -> CellClearance:
+    """Smallest distance between the yarns of a periodic cell and their images i a1 + j a2,
+    |i| <= 1, |j| <= 2 (and the non-adjacent parts of each yarn itself).
+
+    Args:
+        yarns: each yarn as the consecutive curves of one period along a1, each on [0, 1],
+            all sharing degree and knots (mm).
+        lattice: (2, 3) lattice vectors a1 (the yarns' period) and a2 (mm).
+        adjacent_arc: parts of one yarn closer than this in arc length are skipped (mm).
+
+    The same search as `chain_clearance` (sampled pairs, the local minima refined by Newton's
+    method), over every pair of yarns.
+    """
+    lattice = np.asarray(lattice, dtype=float)
+    chains, params, points, arcs, periods = [], [], [], [], []
+    for yarn in yarns:
+        chain = _Chain(tuple(yarn), lattice[0])
+        n = len(yarn)
+        s = (np.arange(n * _SAMPLES_PER_CURVE) + 0.5) / _SAMPLES_PER_CURVE
+        sampled = chain.evaluate(s, basis=_sample_basis(chain.degree, tuple(chain.knots), n))[0]
+        steps = np.linalg.norm(np.diff(sampled, axis=0, append=sampled[:1] + lattice[0]), axis=1)
+        chains.append(chain)
+        params.append(s)
+        points.append(sampled)
+        arcs.append(np.concatenate([[0.0], np.cumsum(steps)[:-1]]))
+        periods.append(steps.sum())
+    spacing = max(np.linalg.norm(np.diff(p, axis=0), axis=1).max() for p in points)
+    images = [(i, j) for j in range(-2, 3) for i in (-1, 0, 1)]
+    offsets = np.array([i * lattice[0] + j * lattice[1] for i, j in images])
+    best = CellClearance(np.inf, (0, 0), 0.0, 0.0, (0, 0))
+    for m in range(len(yarns)):
+        for n in range(m, len(yarns)):
+            shifted = (points[n][None, :, :] + offsets[:, None, :]).reshape(-1, 3)
+            distances = scipy.spatial.distance.cdist(points[m], shifted).reshape(
+                points[m].shape[0], len(images), points[n].shape[0]
+            )
+            if m == n:
+                for k, (i, j) in enumerate(images):
+                    if j == 0:  # the same yarn, i periods further on
+                        along = np.abs(arcs[m][:, None] - (arcs[n][None, :] + i * periods[n]))
+                        distances[:, k, :][along < adjacent_arc] = np.inf
+            nearest = distances.min(axis=2)
+            overall = nearest.min()
+            if not np.isfinite(overall):
+                continue
+            slack = 2 * spacing**2 / max(overall, 1e-300) + 1e-3 * overall
+            local = (
+                (nearest <= np.roll(nearest, 1, axis=0))
+                & (nearest <= np.roll(nearest, -1, axis=0))
+                & (nearest <= overall + slack)
+            )
+            rows, columns = np.nonzero(local)
+            partners = np.argmin(distances[rows, columns], axis=1)
+            found, first, second = _refine(
+                _ChainPair(chains[m], chains[n]),
+                params[m][rows],
+                params[n][partners],
+                offsets[columns],
+            )
+            if m == n:  # a refined pair may slide along the yarn onto an adjacent part
+                shift = np.array([images[k][0] if images[k][1] == 0 else np.nan for k in columns])
+                along = np.abs(
+                    _arc_at(first, params[m], arcs[m], periods[m])
+                    - _arc_at(second, params[m], arcs[m], periods[m])
+                    - shift * periods[m]
+                )
+                found = np.where(along < adjacent_arc, np.inf, found)
+            k = int(np.argmin(found))
+            if not np.isfinite(found[k]):
+                continue
+            if found[k] < best.distance:
+                best = CellClearance(
+                    float(found[k]), (m, n), float(first[k]), float(second[k]), images[columns[k]]
+                )
+    return best
+
+
+def _arc_at(s: np.ndarray, params: np.ndarray, arcs: np.ndarray, period: float) -> np.ndarray:
+    """Unwrapped arc coordinate (mm) at chain parameters s, interpolated between the samples
+    (params, arcs) of one period of `params.size / _SAMPLES_PER_CURVE` curves."""
+    curves = params.size // _SAMPLES_PER_CURVE
+    turns = np.floor(s / curves)
+    xp = np.concatenate([params - curves, params, params + curves])
+    fp = np.concatenate([arcs - period, arcs, arcs + period])
+    return np.interp(s - turns * curves, xp, fp) + turns * period
+
+
+class _ChainPair:
+    """Two chains evaluated as one for `_refine`: the first half of the parameters on the
+    first chain, the second half on the second (pairs across two yarns)."""
+
+    def __init__(self, first: _Chain, second: _Chain):
+        self.first, self.second = first, second
+
+    def evaluate(self, s: np.ndarray, order: int = 0) -> np.ndarray:
+        half = s.size // 2
+        return np.concatenate(
+            [self.first.evaluate(s[:half], order), self.second.evaluate(s[half:], order)], axis=1
+        )
 
 
 @cache

@@ -49,6 +49,9 @@ __all__ = [
 
 logger = logging.getLogger(__name__)
 
+_CURVATURE_ROWS = slice(6, 12)
+"""Rows of the reference data holding the reference curvature k0 and its rate k0_u."""
+
 _QUADRATURE_POINTS_PER_SPAN = 8
 """Gauss points per knot span for tributary lengths (the integrand N_i |r0'| is smooth)."""
 
@@ -257,6 +260,7 @@ class RodModel:
         self._reference = np.ascontiguousarray(
             np.concatenate([self._reference_data(k) for k in range(len(self.patches))], axis=1)
         )
+        self._curvature = self._reference[_CURVATURE_ROWS].copy()
         self._stiffness = np.ascontiguousarray(
             np.concatenate(
                 [
@@ -326,6 +330,14 @@ class RodModel:
         return ControlPoints(
             state[self.layout.position_dofs(patch)], state[self.layout.quaternion_dofs(patch)]
         )
+
+    def set_natural_curvature(self, scale: float) -> None:
+        """Make the rods' natural (stress-free) curvature and twist `scale` times those of the
+        reference configuration: 1, as built, the reference shape is stress-free; 0, naturally
+        straight rods bent into the reference shape (a yarn that keeps no set; the relaxed
+        cell of a stitch pattern, `rve_rod.rve.relax`). Lengths and shear stay the
+        reference's."""
+        self._reference[_CURVATURE_ROWS] = scale * self._curvature
 
     # -------------------------------------------------------------------- post-processing --
 

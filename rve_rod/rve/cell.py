@@ -1,7 +1,11 @@
-"""The periodic loop cell: one yarn period as a single rod patch, with its images.
+"""The periodic loop cell: one yarn period as a single rod patch, with its images; or the
+cell of a stitch pattern: one rod patch per course of the cell, each one yarn period of
+several loops, on an oblique lattice.
 
-The loop geometry comes as the 4 C2-continuous quarter curves of one loop (`rve_rod.geometry`).
-They are refined to the requested number of control points per curve, joined into ONE
+The loop geometry comes as the 4 C2-continuous quarter curves of one loop (`rve_rod.geometry`),
+or, for a stitch pattern, as the `PeriodicYarns` of its cell (`rve_rod.geometry.pattern_cell`:
+4 quarter curves per loop for each course, and the lattice a1 = (p w, 0), a2 = (q w, s c)).
+Each yarn's curves are refined to the requested number of control points per curve, joined into ONE
 degree-p B-spline with interior knots of multiplicity p - 2 at the joins (exact: the curves
 are C2 there), and cut where the yarn touches nothing: the rod engine ignores line loads at a
 patch's end points (their rows hold the end conditions), so the only patch end, the periodic
@@ -11,11 +15,13 @@ translated by a1, so any cut gives the same yarn.
 
 Conditions of the rod model:
 
-* periodicity (a `Joint` from END to START): x(start) = x(end) - F a1, equal rotations, equal
-  internal force and moment;
-* a `PointSupport` in the middle of the patch holding its position and its rotation about the
-  period axis: the rigid modes of a yarn with one period vector (the support reaction is
-  zero up to discretization error and the two-pass contact imbalance; it is reported);
+* periodicity of every patch (a `Joint` from END to START): x(start) = x(end) - F a1, equal
+  rotations, equal internal force and moment;
+* a `PointSupport` in the middle of the first patch holding its position and its rotation
+  about the period axis: the rigid modes of a yarn with one period vector (the support
+  reaction is zero up to discretization error and the two-pass contact imbalance; it is
+  reported); the other patches of a pattern's cell are tied to the first by soft springs
+  (`rve_rod.rve.ties`) until their contacts take over;
 * `MacroBalance`: zero macro stress conjugate to each free component of F.
 
 A converged state whose largest contact penetration g = 2r - d exceeds the penetration limit
@@ -41,9 +47,10 @@ from typing import NamedTuple
 import numpy as np
 
 from rve_rod import limits
-from rve_rod.contact import ContactModel, ContactOptions, Patch, PeriodicLattice
+from rve_rod.contact import ContactModel, ContactOptions, Patch, PeriodicLattice, YarnChain
 from rve_rod.errors import ConvergenceError, InputError, check_integer, check_range
 from rve_rod.geometry.bspline import BSplineCurve, join
+from rve_rod.geometry.pattern_cell import PeriodicYarns
 from rve_rod.newton import NewtonOptions, NonlinearProblem, solve_path
 from rve_rod.presets import Knit
 from rve_rod.rod import END, START, Joint, Offset, PointSupport, RodEnd, RodModel, RodPatch
@@ -51,6 +58,7 @@ from rve_rod.rod.layout import DOFS_PER_POINT
 from rve_rod.rve.coupling import ContactCoupling
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase
 from rve_rod.rve.macro import MacroBalance, MacroDeformation, StressParts, macro_stress
+from rve_rod.rve.ties import YarnTie
 from rve_rod.rve.yarn import YarnModel
 from rve_rod.stepping import SteppingOptions
 
@@ -63,6 +71,10 @@ __all__ = [
 
 QUARTERS = 4
 """Curves per loop."""
+
+TIE_PARAMETERS = (2.0, 0.0)
+"""Where the ties of a pattern cell's other yarns sit, in quarter curves from the start of the
+first loop (before the cut): its head apex and its sinker, apart along y."""
 
 SUPPORT_UNKNOWNS = 4
 """Multipliers of the point support: reaction force (3) and moment about the period axis."""
@@ -104,17 +116,20 @@ class CellSettings:
 def periodic_patch(
     curves: list[BSplineCurve], period: np.ndarray, cut: float, control_points: int
 ) -> BSplineCurve:
-    """One period of the yarn as one B-spline on the parameter domain [0, 4].
+    """One period of a yarn as one B-spline on the parameter domain [0, 4 k] (k loops).
 
     Args:
-        curves: the 4 quarter curves of the loop in order along the yarn (C2 at the joins and,
-            with the next loop, across the end: curve 3 ends at curve 0's start + period).
-        period: (3,) a1 = (w, 0, 0) (mm).
+        curves: the 4 k quarter curves of the yarn's period in order along the yarn (C2 at the
+            joins and, with the next period, across the end: the last curve ends at the first
+            curve's start + period).
+        period: (3,) a1, (w, 0, 0) for one loop (mm).
         cut: start of the period in quarter curves, in [0, 4).
         control_points: control points per quarter after refinement.
     """
-    if len(curves) != QUARTERS:
-        raise InputError(f"a loop has {QUARTERS} quarter curves, got {len(curves)}")
+    if not curves or len(curves) % QUARTERS:
+        raise InputError(
+            f"a loop has {QUARTERS} quarter curves; got {len(curves)}, not a multiple of it"
+        )
     own = max(curve.n_control_points for curve in curves)
     if control_points < own:
         raise InputError(
@@ -128,7 +143,8 @@ def periodic_patch(
         )
         quarters.append(scaled.refined_to(control_points))
     loop = join(quarters, continuity=2)
-    gap = np.abs(loop(np.array([QUARTERS]))[0] - loop(np.array([0.0]))[0] - period).max()
+    end = float(len(curves))
+    gap = np.abs(loop(np.array([end]))[0] - loop(np.array([0.0]))[0] - period).max()
     if gap > 1e-9 * np.abs(loop.control_points).max():
         raise InputError(
             f"the loop does not end at its start + a1 (gap {gap:.3g} mm): not a periodic loop"
@@ -146,9 +162,10 @@ class CellState(NamedTuple):
         deformation: (2, 2) macro F.
         stress: the macro stress and its parts; first_piola is P - P0 (the change from the
             rest state), the parts are P's own (they sum to first_piola + rest_stress).
-        cut_force: (3,) internal force at the cut n(END) (N).
+        cut_force: (3,) internal force at the cut n(END) (N), summed over the patches.
         support_reaction: (4,) support force (3, N) and moment about the period axis (N mm).
-        regularization: (2, 2) kappa H on the free components (N/mm), zero elsewhere.
+        regularization: (2, 2) kappa H on the free components and the ties' share of the
+            macro stress (N/mm); zero for a single-jersey cell under fixed F.
     """
 
     deformation: np.ndarray
@@ -159,25 +176,30 @@ class CellState(NamedTuple):
 
 
 class LoopCell:
-    """The rod model of one periodic loop under a load case (module docstring).
+    """The rod model of one periodic loop, or of a pattern's cell, under a load case (module
+    docstring).
 
     Args:
-        curves: the 4 quarter curves of the loop (mm), built with the yarn radius r.
-        knit: the wale width w (period along x) and course height c (spacing along y), mm.
+        curves: the 4 quarter curves of a single-jersey loop (mm), built with the yarn radius
+            r (the cell on the lattice (w, 0), (0, c)); or the `PeriodicYarns` of a pattern's
+            cell (its courses' curves and its lattice).
+        knit: the wale width w and course height c of one loop, mm.
         yarn: section stiffness and contact laws.
         case: the load case (which components of F are free).
         settings: discretization and modelling choices.
 
     Attributes:
-        curve: the periodic patch's reference centreline.
+        curves: the reference centrelines of the periodic patches, one per course of the cell.
+        curve: the first of them (the only one of a single-jersey cell).
         model: the RodModel; coupling: the ContactCoupling; macro: the MacroDeformation.
+        ties: the YarnTies of the second and further patches (none for one patch).
         rest_stress: (2, 2) P0 of the rest state (N/mm), zeros unless the contacts are
             squeezed at rest (`rest_state`); `evaluate_state` reports P - P0.
     """
 
     def __init__(
         self,
-        curves: list[BSplineCurve],
+        curves: list[BSplineCurve] | PeriodicYarns,
         knit: Knit,
         yarn: YarnModel,
         case: LoadCase,
@@ -187,45 +209,62 @@ class LoopCell:
         self.settings = settings
         self.yarn = yarn
         self.rest_stress = np.zeros((2, 2))
-        self._curves = list(curves)
+        self._curves = curves
         self._knit = knit
-        lattice = PeriodicLattice.rectangular(knit.wale_width, knit.course_height)
+        if not isinstance(curves, PeriodicYarns):
+            rectangular = PeriodicLattice.rectangular(knit.wale_width, knit.course_height)
+            curves = PeriodicYarns((tuple(curves),), rectangular.vectors)
+        lattice = PeriodicLattice(curves.lattice)
         period = lattice.vectors[0]
-        self.curve = periodic_patch(curves, period, settings.cut, settings.control_points)
-        n = self.curve.n_control_points
+        self.curves = tuple(
+            periodic_patch(list(yarn_curves), period, settings.cut, settings.control_points)
+            for yarn_curves in curves.yarns
+        )
+        self.curve = self.curves[0]
+        n = sum(curve.n_control_points for curve in self.curves)
         free = len(case.free)
         offset = DOFS_PER_POINT * n
         self.macro = MacroDeformation(case, offset + np.arange(free))
         contact = ContactModel(
-            [Patch(self.curve.degree, self.curve.knots)],
-            self.curve.control_points,
+            [Patch(curve.degree, curve.knots) for curve in self.curves],
+            np.concatenate([curve.control_points for curve in self.curves]),
             yarn.law,
             friction=yarn.friction,
             lattice=lattice,
+            yarns=[YarnChain((k,), (1, 0)) for k in range(len(self.curves))],
             options=settings.contact,
         )
         self.coupling = ContactCoupling(contact, self.macro, n)
         self._period = period
-        self._cut = RodEnd(0, END)
+        self._cuts = tuple(RodEnd(k, END) for k in range(len(self.curves)))
         self._support_columns = offset + free + np.arange(SUPPORT_UNKNOWNS)
         self._regularization = settings.lateral_stiffness * yarn.section.axial / knit.course_height
+        middle = 0.5 * self.curve.domain[1]
         conditions = [
-            Joint(self._cut, RodEnd(0, START), offset=self._offset),
-            PointSupport(0, 0.5 * QUARTERS, first_unknown=free, rotation_axes=(period,)),
+            Joint(cut, RodEnd(cut.patch, START), offset=self._offset) for cut in self._cuts
         ]
+        conditions.append(PointSupport(0, middle, first_unknown=free, rotation_axes=(period,)))
+        self.ties = tuple(
+            YarnTie(patch, (at - settings.cut) % QUARTERS, self._regularization, self.macro)
+            for patch in range(1, len(self.curves))
+            for at in TIE_PARAMETERS
+        )
+        conditions += self.ties
         if free:
             positions = (DOFS_PER_POINT * np.arange(n)[:, None] + np.arange(3)).ravel()
             conditions.append(
                 MacroBalance(
                     self.macro,
                     self.coupling,
-                    self._cut,
+                    self._cuts,
                     positions,
                     self._regularization,
                     rest_stress=self.rest_stress,
                 )
             )
-        patches = RodPatch.chain([self.curve], yarn.section)
+        patches = [
+            patch for curve in self.curves for patch in RodPatch.chain([curve], yarn.section)
+        ]
         self.model = RodModel(
             patches,
             conditions,
@@ -303,7 +342,7 @@ class LoopCell:
             ) from error
         squeezed = path.steps[-1].state
         state = self.reference_state()
-        points = DOFS_PER_POINT * self.curve.n_control_points
+        points = self.model.layout.extra_offset
         state[:points] = squeezed[:points]
         state[self._support_columns] = squeezed[points:]
         self.rest_stress[...] = rest.evaluate_state(squeezed, 0.0).stress.first_piola
@@ -314,18 +353,28 @@ class LoopCell:
         """Control-point positions (n, 3) of the patch (mm)."""
         return self.coupling.positions(state)
 
+    def cut_force(self, state: np.ndarray) -> np.ndarray:
+        """The internal force at the cuts summed over the patches, (3,) (N)."""
+        ends = [self.model.end_values(state, cut) for cut in self._cuts]
+        force = ends[0].force
+        for end in ends[1:]:
+            force = force + end.force
+        return force
+
     def evaluate_state(self, state: np.ndarray, load_factor: float) -> CellState:
         """Macro F, P (with its parts), cut force and support reaction of a state."""
-        end = self.model.end_values(state, self._cut)
-        stress = macro_stress(self.coupling, end.force, state, load_factor)
+        force = self.cut_force(state)
+        stress = macro_stress(self.coupling, force, state, load_factor)
         stress = stress._replace(first_piola=stress.first_piola - self.rest_stress)
         regularization = np.zeros((2, 2))
         for (a, b), column in zip(self.case.free, self.macro.columns, strict=True):
             regularization[a, b] = self._regularization * state[column]
+        for tie in self.ties:
+            regularization += tie.stress(self.model, state, load_factor, self.coupling.area)
         return CellState(
             deformation=self.macro.matrix(state, load_factor)[:2, :2],
             stress=stress,
-            cut_force=end.force,
+            cut_force=force,
             support_reaction=np.array(state[self._support_columns]),
             regularization=regularization,
         )

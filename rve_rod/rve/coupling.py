@@ -33,10 +33,10 @@ class _Cached(NamedTuple):
 
 
 class ContactCoupling:
-    """Contact line loads on a one-patch rod whose images sit at x + F L.
+    """Contact line loads on the rod patches of a cell whose images sit at x + F L.
 
     Args:
-        contact: the contact model of the cell's yarn (one patch, periodic lattice).
+        contact: the contact model of the cell's yarns (one patch each, periodic lattice).
         macro: the macro deformation (prescribed and unknown components of F).
         n_control_points: control points of the rod (= collocation points).
 
@@ -44,8 +44,9 @@ class ContactCoupling:
         contact, macro: as given.
         weights: (n,) collocation weights (mm) of the contact layout.
         lattice: (2, 3) reference lattice vectors a1, a2 (mm).
-        area: reference cell area w c (mm^2).
-        end_points: (2,) the collocation points at the cut (where the rod ignores line loads).
+        area: reference cell area |a1 x a2| (mm^2).
+        end_points: (2 k,) the collocation points at the cuts of the k patches (where the rod
+            ignores line loads).
     """
 
     def __init__(self, contact: ContactModel, macro: MacroDeformation, n_control_points: int):
@@ -54,7 +55,15 @@ class ContactCoupling:
         self.weights = contact.collocation_weights
         self.lattice = contact.lattice.vectors
         self.area = float(abs(np.linalg.det(self.lattice[:, :2])))
-        self.end_points = np.array([0, n_control_points - 1])
+        layout = contact.layout
+        patch_of_point = layout.span_patch[layout.point_span]
+        self.end_points = np.array(
+            [
+                index
+                for patch in range(int(patch_of_point.max()) + 1)
+                for index in np.flatnonzero(patch_of_point == patch)[[0, -1]]
+            ]
+        )
         self._n = int(n_control_points)
         self._cached: _Cached | None = None
 

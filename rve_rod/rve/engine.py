@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from rve_rod.errors import ConvergenceError
 from rve_rod.homogenize.samples import RveCase, RveRun
 from rve_rod.newton import LINEAR_SOLVER_OPTIONS
+from rve_rod.pattern import smallest_cell
 from rve_rod.presets import Fabric
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase, Shear, UniaxialCourse, UniaxialWale
@@ -71,14 +72,22 @@ def fabric_settings(fabric: Fabric, control_points: int, bending: str = "auto") 
     `control_points` per quarter loop curve, the yarn's `bending` model
     (`rve_rod.rve.yarn.BENDING_CHOICES`, resolved for the yarn by `bending_model`, so that
     cache keys and surface files name the model that ran); a yarn without friction (mu = 0)
-    runs without the friction path (no slip history), everything else at its default. Raises
+    runs without the friction path (no slip history), everything else at its default (but a
+    pattern's cell of several courses: every linear system factorized anew). Raises
     InputError when the bending model cannot model the fabric's yarn (`check_bending`)."""
     model = bending_model(fabric, bending)
     check_bending(fabric, model)
-    return RveSettings(
+    settings = RveSettings(
         cell=CellSettings(control_points=control_points),
         yarn=YarnSettings(friction=fabric.yarn.friction_coefficient > 0.0, bending=model),
     )
+    if smallest_cell(fabric.knit.pattern).courses > 1:
+        # several yarn patches: their ties' soft modes need every system factorized anew
+        # (refined solves with older factors meet the linear tolerance and miss those modes:
+        # moss stops at its first step), the linear solver's options, not part of the identity
+        newton = dataclasses.replace(settings.newton, refinement=0)
+        settings = dataclasses.replace(settings, newton=newton)
+    return settings
 
 
 def surface_engine(settings: RveSettings | None = None) -> RodRve:

@@ -1,7 +1,9 @@
 """Macro deformation and macro stress of the periodic loop cell.
 
 The cell is one period of the yarn: its end sits at its start plus F a1 (a1 = (w, 0, 0)), and
-its lattice images (i, j) at x + F L with L = i a1 + j a2 (a2 = (0, c, 0)). The in-plane
+its lattice images (i, j) at x + F L with L = i a1 + j a2 (a2 = (0, c, 0)). A pattern's cell
+has one such period per course, all along a1 = (p w, 0, 0), on a lattice a2 = (q w, s c, 0);
+its n_cut is the sum of the forces at the cuts, and A0 = |a1 x a2|. The in-plane
 components of F are prescribed by the load case or are macro unknowns (`MacroDeformation`).
 
 The macro stress P (first Piola-Kirchhoff, force per undeformed width, N/mm) is the derivative
@@ -9,7 +11,7 @@ of the cell's energy with respect to F per reference area A0 = w c. F enters in 
 the end position (x_end = x_start + F a1), where the yarn transmits its internal force n, and
 the image positions, where the contacts with the images act. Hence (virtual work)
 
-    P = ( n_cut (x) a1  +  1/2 sum_k w_k f_k (x) L_k ) / (w c)
+    P = ( n_cut (x) a1  +  1/2 sum_k w_k f_k (x) L_k ) / A0,    A0 = w c for one loop
 
 with f_k the line load of contact k on its slave collocation point (force on the cell from
 image L_k), w_k that point's collocation weight (the integral of the line load's spline
@@ -138,7 +140,7 @@ class MacroBalance(Condition):
     Attributes:
         macro: the macro deformation (free components and their state indices).
         coupling: the contact coupling (its cached evaluation, weights and lattice).
-        end: the rod end at the cut whose internal force is n_cut.
+        cuts: the rod ends at the cuts (one per patch) whose internal forces sum to n_cut.
         position_columns: (3n,) state indices of all control-point positions.
         regularization: kappa (N/mm).
         rest_stress: (2, 2) P0 (N/mm), filled in place by the cell once its rest state is
@@ -147,7 +149,7 @@ class MacroBalance(Condition):
 
     macro: MacroDeformation
     coupling: "ContactCoupling"
-    end: RodEnd
+    cuts: tuple[RodEnd, ...]
     position_columns: np.ndarray
     regularization: float
     rest_stress: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))
@@ -165,7 +167,7 @@ class MacroBalance(Condition):
 
     def evaluate(self, context: ConditionContext, load_factor: float) -> list[Block]:
         state = context.state
-        end = context.model.end_values(state, self.end)
+        ends = [context.model.end_values(state, cut) for cut in self.cuts]
         coupling = self.coupling
         result = coupling.result(state, load_factor)
         contacts = result.contacts
@@ -180,16 +182,17 @@ class MacroBalance(Condition):
             zip(self.macro.case.free, self.macro.columns, strict=True)
         ):
             rows = context.rows[row : row + 1]
-            # the yarn force through the cut enters P_a1 only
+            # the yarn force through the cuts enters P_a1 only
             scale = period / coupling.area if b == 0 else 0.0
-            blocks.append(
+            blocks += [
                 Block(
                     rows,
                     np.array([scale * end.force[a]]),
                     end.columns,
                     scale * end.d_force[a : a + 1],
                 )
-            )
+                for end in ends
+            ]
             jacobian = np.zeros(columns.size)
             value = self.regularization * state[unknown] - self.rest_stress[a, b]
             jacobian[self.position_columns.size + row] = self.regularization

@@ -20,8 +20,10 @@ from rve_rod.contact import ContactStatistics
 from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.geometry.loop import loop_geometry
+from rve_rod.geometry.pattern_cell import PeriodicYarns, pattern_geometry
 from rve_rod.homogenize.samples import RveRun
 from rve_rod.newton import NewtonOptions, NonlinearProblem, newton_solve, solve_path
+from rve_rod.pattern.chart import JERSEY
 from rve_rod.presets import Fabric
 from rve_rod.rve.cell import CellSettings, CellState, LoopCell
 from rve_rod.rve.load_cases import LoadCase
@@ -134,14 +136,17 @@ class RveResult:
         steps: the converged output states, the unloaded one first.
         complete: True when the whole load path converged.
         message: why the run stopped early ("" when complete).
-        curve: the reference centreline of the cell's patch (knots and degree of every
-            deformed centreline).
-        centrelines: (s, n, 3) control points of the centreline at each step (mm).
+        curves: the reference centrelines of the cell's patches, one per course of the cell
+            (knots and degree of every deformed centreline; one for single jersey).
+        centrelines: (s, n, 3) control points of the centrelines at each step, the patches'
+            one after the other (mm).
         newton_iterations: all Newton iterations of the run (as counted per step), including
             the zero-strain solve and, for a run that stopped, the tries after its last state.
         wall_time_s: wall time of the run, model building included (s).
         rest_stress: (2, 2) P0 of the rest state the stresses are measured from (N/mm; zero
             unless the contacts are squeezed at rest, `LoopCell.rest_state`).
+        lattice: (2, 3) the cell's lattice vectors a1, a2 (mm); None: the single-jersey
+            cell's (w, 0, 0), (0, c, 0).
     """
 
     case: LoadCase
@@ -151,11 +156,25 @@ class RveResult:
     steps: tuple[RveStep, ...]
     complete: bool
     message: str
-    curve: BSplineCurve
+    curves: tuple[BSplineCurve, ...]
     centrelines: np.ndarray
     newton_iterations: int
     wall_time_s: float
     rest_stress: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))
+    lattice: np.ndarray | None = None
+
+    @property
+    def curve(self) -> BSplineCurve:
+        """The first patch's reference centreline (the only one of a single-jersey cell)."""
+        return self.curves[0]
+
+    @property
+    def cell_lattice(self) -> np.ndarray:
+        """(2, 3) the cell's lattice vectors (mm)."""
+        if self.lattice is not None:
+            return self.lattice
+        knit = self.fabric.knit
+        return np.array([[knit.wale_width, 0.0, 0.0], [0.0, knit.course_height, 0.0]])
 
     def series(self, name: str) -> np.ndarray:
         """One attribute of every step as an array, e.g. series("force_gf_per_cm")."""
@@ -173,9 +192,13 @@ class RveResult:
             return None
         return -last.lateral_strain / last.strain
 
-    def centreline(self, step: int) -> BSplineCurve:
-        """The deformed centreline of output state `step` (the cell's period, mm)."""
-        return BSplineCurve(self.curve.degree, self.curve.knots, self.centrelines[step])
+    def centreline(self, step: int, patch: int = 0) -> BSplineCurve:
+        """The deformed centreline of patch `patch` at output state `step` (one period of
+        that course's yarn, mm)."""
+        first = sum(curve.n_control_points for curve in self.curves[:patch])
+        curve = self.curves[patch]
+        points = self.centrelines[step][first : first + curve.n_control_points]
+        return BSplineCurve(curve.degree, curve.knots, points)
 
     def to_rve_run(self) -> RveRun:
         """The loaded states as the homogenization's RveRun (F and P, reference excluded)."""
@@ -380,11 +403,12 @@ def run_cell(
             steps=tuple(steps),
             complete=complete,
             message=message,
-            curve=cell.curve,
+            curves=cell.curves,
             centrelines=np.array([cell.positions(state) for state in states]),
             newton_iterations=iterations,
             wall_time_s=time.perf_counter() - started,
             rest_stress=cell.rest_stress.copy(),
+            lattice=cell.coupling.lattice.copy(),
         )
 
     problem = recorder.wrapped()
@@ -437,16 +461,26 @@ def run_cell(
 
 
 def build_cell(
-    curves: list[BSplineCurve], fabric: Fabric, case: LoadCase, settings: RveSettings
+    curves: list[BSplineCurve] | PeriodicYarns,
+    fabric: Fabric,
+    case: LoadCase,
+    settings: RveSettings,
 ) -> LoopCell:
-    """The loop cell of `fabric` from its loop curves (built with the adjusted radius)."""
+    """The loop cell of `fabric` from its loop curves (built with the adjusted radius), or
+    from its pattern cell's yarns (`loop_curves`)."""
     yarn = yarn_model(fabric, settings.yarn)
     return LoopCell(curves, fabric.knit, yarn, case, settings.cell)
 
 
-def loop_curves(fabric: Fabric) -> list[BSplineCurve]:
-    """The 4 quarter curves of the fabric's loop, built with the adjusted radius."""
-    return list(loop_geometry(fabric.knit, fabric.yarn.minimal_radius).curves)
+def loop_curves(fabric: Fabric) -> list[BSplineCurve] | PeriodicYarns:
+    """The 4 quarter curves of the fabric's loop, built with the adjusted radius; for a
+    stitch pattern other than jersey, the yarns and lattice of its cell's template
+    (`rve_rod.geometry.pattern_cell`)."""
+    knit, radius = fabric.knit, fabric.yarn.minimal_radius
+    if knit.pattern == JERSEY:
+        return list(loop_geometry(knit, radius).curves)
+    geometry = pattern_geometry(knit.pattern, knit.wale_width, knit.course_height, radius)
+    return geometry.periodic_yarns()
 
 
 def simulate(
@@ -454,7 +488,7 @@ def simulate(
     case: LoadCase,
     settings: RveSettings = RveSettings(),
     *,
-    curves: list[BSplineCurve] | None = None,
+    curves: list[BSplineCurve] | PeriodicYarns | None = None,
     on_step: Callable[[RveStep], None] | None = None,
 ) -> RveResult:
     """Run `case` on the loop cell of `fabric` (geometry, cell, load path).
@@ -463,7 +497,8 @@ def simulate(
         fabric: yarn and knit.
         case: the load case.
         settings: model and solver settings.
-        curves: the loop's 4 quarter curves; None builds them from the fabric.
+        curves: the loop's 4 quarter curves (or a pattern cell's yarns); None builds them
+            from the fabric (`loop_curves`).
         on_step: called with every converged output state.
 
     Raises:

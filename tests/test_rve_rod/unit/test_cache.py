@@ -29,6 +29,8 @@ def perturbed(value):
         return not value
     if value is None:
         return 1.0
+    if isinstance(value, tuple):  # a stitch pattern's chart: knit and purl swapped
+        return tuple(row.translate(str.maketrans("KP", "PK")) for row in value)
     return value * 1.01 + 0.01
 
 
