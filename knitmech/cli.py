@@ -81,16 +81,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="the level of detail (default: the scene's fidelity key, else balanced)",
     )
     run.add_argument("-o", "--output", default="results", help="results folder")
-    run.add_argument(
-        "--jobs",
-        type=int,
-        default=available_cores(),
-        help=f"worker processes for the RVE runs (default: all cores, {available_cores()})",
-    )
-    add_executor_argument(run)
-    run.add_argument(
-        "--cache-dir", help=f"stage and RVE-run cache (default {default_cache_root()})"
-    )
+    _add_compute_options(run)
     run.add_argument(
         "--oversubscribe",
         action="store_true",
@@ -113,6 +104,20 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _add_compute_options(parser: argparse.ArgumentParser) -> None:
+    """--jobs, --executor and --cache-dir, as `run` and `design` take them."""
+    parser.add_argument(
+        "--jobs",
+        type=int,
+        default=available_cores(),
+        help=f"worker processes for the RVE runs (default: all cores, {available_cores()})",
+    )
+    add_executor_argument(parser)
+    parser.add_argument(
+        "--cache-dir", help=f"stage and RVE-run cache (default {default_cache_root()})"
+    )
+
+
 def _add_design(subparsers) -> None:
     design = subparsers.add_parser(
         "design",
@@ -124,16 +129,7 @@ def _add_design(subparsers) -> None:
     design.add_argument("design", help="design file (TOML: a scene with a [design] table)")
     design.add_argument("--fidelity", choices=tuple(LEVELS), help="override the scene's level")
     design.add_argument("-o", "--output", default="design", help="results folder")
-    design.add_argument(
-        "--jobs",
-        type=int,
-        default=available_cores(),
-        help=f"worker processes for the RVE runs (default: all cores, {available_cores()})",
-    )
-    add_executor_argument(design)
-    design.add_argument(
-        "--cache-dir", help=f"stage and RVE-run cache (default {default_cache_root()})"
-    )
+    _add_compute_options(design)
     design.add_argument("--json", action="store_true", help="print design.json instead")
     design.set_defaults(run=design_command)
 
