@@ -160,6 +160,9 @@ class StageCache:
 LOCK_FILE = ".knitmech.lock"
 """The lock file of a results folder (`results_folder_lock`)."""
 
+_HELD: set[Path] = set()
+"""The results folders this process holds (`results_folder_lock` is reentrant within it)."""
+
 
 @contextlib.contextmanager
 def results_folder_lock(folder: Path, name: str = "output") -> Iterator[Path]:
@@ -168,9 +171,15 @@ def results_folder_lock(folder: Path, name: str = "output") -> Iterator[Path]:
     process dies however it dies. A second run into the same folder is refused at once
     (InputError naming `name`): before, its clean-up deleted the live `.stage-*` folder of
     the first, which died with a traceback, or two scenes ran at once and left a folder of
-    both. Holding the lock, the `.stage-*` folders a run finds are those of a killed run."""
+    both. Holding the lock, the `.stage-*` folders a run finds are those of a killed run.
+    Within one process the hold is reentrant: a run inside a run (`knitmech design` runs its
+    designed scene into its own folder) shares the outer hold."""
     folder = Path(folder)
     folder.mkdir(exist_ok=True)
+    key = folder.resolve()
+    if key in _HELD:  # a run inside a run of this process (a design's final scene run)
+        yield folder
+        return
     descriptor = os.open(folder / LOCK_FILE, os.O_RDWR | os.O_CREAT, 0o644)
     try:
         fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -184,8 +193,10 @@ def results_folder_lock(folder: Path, name: str = "output") -> Iterator[Path]:
     try:
         os.ftruncate(descriptor, 0)
         os.write(descriptor, f"process {os.getpid()}".encode())
+        _HELD.add(key)
         yield folder
     finally:
+        _HELD.discard(key)
         os.close(descriptor)
 
 

@@ -1,9 +1,12 @@
 """The stage cache: a stage with unchanged inputs is restored (summary and files) without being
 computed; an interrupted stage leaves no entry and no files."""
 
+import subprocess
+import sys
+
 import pytest
 
-from knitmech.stages.cache import CACHED, COMPUTED, Stage, StageCache
+from knitmech.stages.cache import CACHED, COMPUTED, Stage, StageCache, results_folder_lock
 
 
 class Counter:
@@ -65,3 +68,33 @@ def test_interrupted_stage_leaves_nothing_and_runs_again(tmp_path):
     compute = Counter()
     result = cache.run(Stage("surface", "", {"rays": 16}, compute), output)
     assert (result.record.status, compute.calls) == (COMPUTED, 1)
+
+
+def test_a_results_folder_is_held_once_per_process_and_refused_to_another(tmp_path):
+    folder = tmp_path / "out"
+    with results_folder_lock(folder), results_folder_lock(folder):  # a run inside a run
+        holder = subprocess.run(
+            [sys.executable, "-c", _HOLD.format(folder=str(folder))],
+            capture_output=True,
+            text=True,
+            check=False,
+        )
+        assert "another knitmech run" in holder.stdout
+    free = subprocess.run(
+        [sys.executable, "-c", _HOLD.format(folder=str(folder))],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert free.stdout.strip() == "held"
+
+
+_HOLD = """
+from pathlib import Path
+from knitmech.stages.cache import results_folder_lock
+try:
+    with results_folder_lock(Path({folder!r})):
+        print("held")
+except Exception as error:
+    print(error)
+"""
