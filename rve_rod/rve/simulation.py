@@ -53,9 +53,10 @@ class RveSettings:
         yarn: choices of the yarn model (second moment, friction on/off, ...).
         newton: Newton tolerances and iteration limit; by default with up to 4 line-search
             halvings per iteration (contacts that barely touch and an almost unloaded free
-            direction can make plain Newton cycle; docs/rve.md) and the natural column
-            ordering of the LU (the cell's unknowns run along the yarn; the periodic link
-            and the macro unknowns add a few dense rows and columns at the end).
+            direction can make plain Newton cycle; docs/rve.md), the LU in the "NODES"
+            ordering (minimum degree on the control points, the macro unknowns last) with
+            threshold pivoting, and up to 8 GMRES iterations with the last LU factors before
+            a Jacobian is factorized anew (`rve_rod.newton`).
         stepping: load stepping and cutback.
     """
 
@@ -63,7 +64,7 @@ class RveSettings:
     yarn: YarnSettings = field(default_factory=YarnSettings)
     newton: NewtonOptions = field(
         default_factory=lambda: NewtonOptions(
-            line_search=4, ordering="NODES", pivot_threshold=0.01, refinement=3
+            line_search=4, ordering="NODES", pivot_threshold=0.01, refinement=8
         )
     )
     stepping: SteppingOptions = field(default_factory=SteppingOptions)
@@ -265,24 +266,37 @@ class _Snapshot(NamedTuple):
     derived: CellState
     contacts: ContactStatistics
     evaluations: int
+    converged: int
     wall_time_s: float
+
+    def iterations(self, attempts: int) -> int:
+        """Newton iterations (linear solves, line-search trials included) of the `attempts`
+        Newton solves since the previous snapshot: one per evaluation but the first of each
+        solve, plus the correction a converged solve computes without evaluating it."""
+        return self.evaluations - attempts + self.converged
 
 
 class _Recorder:
-    """Wraps the cell's problem: counts evaluations, and at every converged output state
-    takes its outputs (before the commit changes the friction anchors) and its wall time."""
+    """Wraps the cell's problem: counts evaluations and converged Newton solves (the calls of
+    `admissible`), and at every converged output state takes its outputs (before the commit
+    changes the friction anchors) and its wall time."""
 
     def __init__(self, cell: LoopCell, targets: np.ndarray):
         self.cell = cell
         self.problem = cell.problem()
         self.targets = list(targets)
         self.evaluations = 0
+        self.converged = 0
         self.snapshots: list[_Snapshot] = []
         self._last = time.perf_counter()
 
     def evaluate(self, state, load_factor):
         self.evaluations += 1
         return self.problem.evaluate(state, load_factor)
+
+    def admissible(self, state, load_factor) -> str:
+        self.converged += 1
+        return self.problem.admissible(state, load_factor)
 
     def commit(self, state, load_factor):
         index = len(self.snapshots)
@@ -301,10 +315,12 @@ class _Recorder:
                 derived=self.cell.evaluate_state(state, load_factor),
                 contacts=contacts,
                 evaluations=self.evaluations,
+                converged=self.converged,
                 wall_time_s=now - self._last,
             )
         )
         self.evaluations = 0
+        self.converged = 0
         self._last = now
 
     def wrapped(self) -> NonlinearProblem:
@@ -313,7 +329,7 @@ class _Recorder:
             residual_scale=self.problem.residual_scale,
             state_scale=self.problem.state_scale,
             commit=self.commit,
-            admissible=self.problem.admissible,
+            admissible=self.admissible,
             nodes=self.problem.nodes,
         )
 
@@ -425,10 +441,11 @@ def run_cell(
             f"{initial.iterations} iterations (does the initial geometry overlap?)",
             history=result(False, "no equilibrium at zero strain", initial.iterations),
         )
+    recorder.converged += 1
     recorder.snapshot(initial.state, 0.0)
     recorder.problem.commit(initial.state, 0.0)
     first = recorder.snapshots.pop()
-    add(first, newton_iterations=first.evaluations - 1, substeps=1, cutbacks=0)
+    add(first, newton_iterations=first.iterations(1), substeps=1, cutbacks=0)
     unfinished = 0  # iterations spent after the last output state (a run that stopped)
     try:
         path = solve_path(
@@ -439,12 +456,13 @@ def run_cell(
         path = error.history
         message, complete = str(error), False
         stopped = error.last_converged
-        unfinished = recorder.evaluations - stopped.substeps - stopped.cutbacks
+        unfinished = (
+            recorder.evaluations - stopped.substeps - stopped.cutbacks + recorder.converged
+        )
     for record, snapshot in zip(path.steps[1:], recorder.snapshots, strict=False):
-        attempts = record.substeps + record.cutbacks
         add(
             snapshot,
-            newton_iterations=snapshot.evaluations - attempts,
+            newton_iterations=snapshot.iterations(record.substeps + record.cutbacks),
             substeps=record.substeps,
             cutbacks=record.cutbacks,
         )

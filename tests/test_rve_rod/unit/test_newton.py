@@ -8,6 +8,7 @@ import pytest
 import scipy.sparse
 import scipy.sparse.linalg
 
+from rve_rod import newton
 from rve_rod.errors import ConvergenceError, InputError
 from rve_rod.newton import (
     LinearSolver,
@@ -187,17 +188,43 @@ def test_every_lu_ordering_gives_the_same_newton_path(ordering):
 
 
 def test_a_trial_within_the_residual_tolerance_is_not_damped():
-    """Started at the root, the merit cannot fall (it is 0), yet the full step is taken: no
-    line-search evaluations spent on round-off."""
+    """A residual with a round-off floor (6e-12 at the first trial, where the root is), and
+    unknowns on a scale of 1e-3, so that the corrections of 5e-12 and 6e-12 exceed the
+    increment tolerance: the trial's merit is higher than the start's, yet the full step is
+    taken (and the next, whose merit is equal): no line-search evaluations spent on
+    round-off. Each evaluation is one iteration; the last correction is not evaluated."""
     calls = []
 
     def evaluate(u, t):
         calls.append(u.copy())
-        return np.array([u[0] - t]), scipy.sparse.csr_matrix([[1.0]])
+        floor = 6e-12 if len(calls) == 2 else 0.0
+        return np.array([u[0] - t + floor]), scipy.sparse.csr_matrix([[1.0]])
 
-    result = newton_solve(NonlinearProblem(evaluate), np.ones(1), 1.0, NewtonOptions(line_search=4))
-    assert result.converged and result.iterations == 1
-    assert len(calls) == 2
+    problem = NonlinearProblem(evaluate, state_scale=1e-3)
+    result = newton_solve(problem, np.array([1.0 + 5e-12]), 1.0, NewtonOptions(line_search=4))
+    assert result.converged
+    np.testing.assert_allclose(result.residual_norms, [5e-12, 6e-12, 6e-12, 0.0], atol=1e-15)
+    assert len(calls) == result.iterations == 4
+
+
+def test_convergence_is_tested_on_the_correction_at_the_state_itself():
+    """A state is accepted when its residual and its own Newton correction are within the
+    tolerances: the correction is computed but neither applied nor evaluated, and the
+    quadratic convergence shows in the norms."""
+    calls = []
+    problem = cubic_problem()
+    counted = dataclasses.replace(
+        problem, evaluate=lambda u, t: calls.append(u.copy()) or problem.evaluate(u, t)
+    )
+    result = newton_solve(counted, np.array([3.0, 4.0]), 1.0)
+    assert result.converged
+    assert len(calls) == result.iterations == len(result.residual_norms)
+    assert len(result.increment_norms) == result.iterations
+    assert result.residual_norms[-1] <= 1e-10 and result.increment_norms[-1] <= 1e-10
+    assert result.increment_norms[-2] > 1e-10  # the increment that led to the state
+    np.testing.assert_array_equal(result.state, calls[-1])  # the last evaluated state
+    # the unapplied correction's size is the state's error (quadratic convergence)
+    assert np.abs(result.state - 1.0).max() <= 2 * result.increment_norms[-1] + 1e-15
 
 
 def ring_with_chords(points, chord, dofs=3, seed=0):
@@ -252,6 +279,68 @@ def test_linear_solver_reuses_factors_while_refinement_reaches_the_tolerance():
         np.testing.assert_allclose(changed @ solution, rhs, atol=1e-8 * np.abs(rhs).max())
     assert solver.factorizations == 2
     assert solver.reused == 2
+
+
+def test_gmres_with_old_factors_resolves_a_low_rank_change_in_as_many_iterations():
+    """A rank-2 change of 30 % (a contact that closes): the old factors alone contract
+    nothing useful, GMRES preconditioned by them solves the new system to the linear tolerance
+    in about 3 iterations (rank + 1 in exact arithmetic), without a factorization."""
+    matrix, nodes = ring_with_chords(40, 13)
+    rng = np.random.default_rng(2)
+    rhs = rng.normal(size=nodes.size)
+    solver = LinearSolver(
+        NewtonOptions(ordering="NODES", pivot_threshold=0.01, refinement=6), nodes
+    )
+    solver.solve(matrix, rhs)
+    low_rank = rng.normal(size=(nodes.size, 2)) @ rng.normal(size=(2, nodes.size))
+    changed = matrix + 0.3 * scipy.sparse.csr_matrix(low_rank) * (
+        abs(matrix).max() / np.abs(low_rank).max()
+    )
+    solution = solver.solve(changed, rhs)
+    np.testing.assert_allclose(changed @ solution, rhs, atol=1e-8 * np.abs(rhs).max())
+    assert (solver.factorizations, solver.reused) == (1, 1)
+    old = scipy.sparse.linalg.splu(matrix.tocsc())
+    once = old.solve(rhs)
+    assert np.abs(changed @ once - rhs).max() > 1e-3 * np.abs(rhs).max()  # not a small change
+
+
+def test_a_looser_linear_tolerance_is_met_and_no_more():
+    """solve(..., tolerance) meets the given relative linear residual with the old factors;
+    the forcing terms of an inexact Newton solve follow |R| between their bounds."""
+    matrix, nodes = ring_with_chords(40, 13)
+    rng = np.random.default_rng(4)
+    rhs = rng.normal(size=nodes.size)
+    options = NewtonOptions(ordering="NODES", pivot_threshold=0.01, refinement=8)
+    changed = matrix + 1e-2 * scipy.sparse.diags(rng.normal(size=nodes.size)) @ matrix
+    residuals = {}
+    for tolerance in (1e-2, 1e-8):
+        solver = LinearSolver(options, nodes)
+        solver.solve(matrix, rhs)
+        solution = solver.solve(changed, rhs, tolerance)
+        residuals[tolerance] = np.abs(changed @ solution - rhs).max() / np.abs(rhs).max()
+        assert residuals[tolerance] <= tolerance and solver.factorizations == 1
+    assert residuals[1e-2] > 1e-8  # fewer iterations: the looser solve is not exact
+    options = NewtonOptions()
+    assert newton._forcing(options, 1e-3) == 1e-3  # |R|
+    assert newton._forcing(options, 5.0) == 0.1  # at most 0.1
+    assert newton._forcing(options, 1e-9) == pytest.approx(1e-3)  # 0.01 tol / |R|
+    assert newton._forcing(options, 0.0) == options.linear_tolerance
+
+
+def test_inexact_newton_with_reused_factors_keeps_quadratic_convergence():
+    """A path of the cubic problem with GMRES on old factors and the forcing terms: the same
+    solution as with exact solves, and the residual norms still fall quadratically."""
+    exact = solve_path(cubic_problem(), np.zeros(2), [0.5, 1.0])
+    options = NewtonOptions(refinement=6)
+    solver = LinearSolver(options)
+    states = [np.zeros(2)]
+    for t in (0.5, 1.0):
+        result = newton_solve(cubic_problem(), states[-1], t, options, solver=solver)
+        assert result.converged
+        states.append(result.state)
+        assert min(convergence_orders(result.residual_norms)) > 1.8
+    np.testing.assert_allclose(states[-1], exact.final_state, atol=1e-12)
+    assert solver.reused > 0
 
 
 def test_without_refinement_every_system_is_factorized():
