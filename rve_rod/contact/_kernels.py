@@ -9,6 +9,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from rve_rod._kernels import record
+
 
 @njit(cache=True)
 def compressible_yarn_law(penetration, parameters, out):
@@ -115,6 +117,7 @@ def _end_slope(coefficients, span, target):
     return slope
 
 
+@record
 class SpanGroups(NamedTuple):
     """The spans of all patches as the projection kernel takes them.
 
@@ -131,6 +134,7 @@ class SpanGroups(NamedTuple):
     closed_end: np.ndarray
 
 
+@record
 class Minima(NamedTuple):
     """Preallocated outputs of `project_on_groups` (capacity minima).
 
@@ -384,6 +388,7 @@ def _safeguarded_newton(coefficients, span, target, piece, tolerance):
     return t
 
 
+@record
 class SpanChain(NamedTuple):
     """How the derivative blocks of k loads chain to the control points of their spans.
 
@@ -398,6 +403,7 @@ class SpanChain(NamedTuple):
     basis: np.ndarray
 
 
+@record
 class CooEntries(NamedTuple):
     """Preallocated COO outputs of `block_entries`: (capacity,) rows, columns (int64), values."""
 
@@ -458,6 +464,7 @@ def block_entries(blocks, slave, n_points, chain, out):
     return count
 
 
+@record
 class ContactGeometry(NamedTuple):
     """Closest-point geometry of k contacts as `contact_loads` takes it (contacts last).
 
@@ -476,6 +483,7 @@ class ContactGeometry(NamedTuple):
     anchored: np.ndarray
 
 
+@record
 class LoadOutput(NamedTuple):
     """Preallocated outputs of `contact_loads` for k contacts.
 
@@ -491,6 +499,7 @@ class LoadOutput(NamedTuple):
     state: np.ndarray
 
 
+@record
 class _Contact(NamedTuple):
     """One contact inside `contact_loads`: n, C', v (3,), d, H, f_n, f_n' and P = I - n n^T."""
 
@@ -610,6 +619,7 @@ def _friction(c, contact, slip_vector, friction, out):
     out.state[c] = 2 if sliding else 1
 
 
+@record
 class StrandArcs(NamedTuple):
     """The master strands by unwrapped reference arc coordinate, as `separating_maxima` takes
     them (`rve_rod.contact.regions.StrandGeometry` builds it).
@@ -640,6 +650,7 @@ class StrandArcs(NamedTuple):
     image_vectors: np.ndarray
 
 
+@record
 class StrandPairs(NamedTuple):
     """Neighbouring distance minima of one slave point on one strand (arrays over k pairs).
 
@@ -657,6 +668,7 @@ class StrandPairs(NamedTuple):
     stop: np.ndarray
 
 
+@record
 class StrandLocations(NamedTuple):
     """Preallocated outputs of `separating_maxima` for k pairs: the maxima's span (k,) int64,
     tau (k,), image (k, 2) int64, arc (k,) (mm), distance (k,) (mm) and normal (3, k)."""
@@ -843,6 +855,7 @@ def prominences(minima, maxima, touch, p, derivative):
             derivative[i, :] = 0.0
 
 
+@record
 class Regions(NamedTuple):
     """The regions of more than one minimum, as `region_weights` takes them.
 
@@ -858,6 +871,7 @@ class Regions(NamedTuple):
     bounds: np.ndarray
 
 
+@record
 class RegionTerms(NamedTuple):
     """Preallocated outputs of `region_weights`: the weight derivative terms dw_contact +=
     coefficient dh_q, q a stationary point (capacity terms).

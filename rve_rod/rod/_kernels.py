@@ -28,6 +28,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from rve_rod._kernels import record
+
 
 @njit(cache=True)
 def gather_kinematics(control, first, basis, out):
@@ -120,6 +122,7 @@ def _add_cross_columns(a, columns, sign, out):
         out[2, c] += sign * (a[0] * y - a[1] * x)
 
 
+@record
 class PointEquations(NamedTuple):
     """Local variables and equation buffers of m collocation points (`collocation_equations`).
 
