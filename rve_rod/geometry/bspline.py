@@ -289,10 +289,10 @@ class BSplineCurve:
 
     def refine(self, new_knots) -> "BSplineCurve":
         """The same curve with every value of `new_knots` inserted once (h-refinement)."""
-        curve = self
+        knots, points = self.knots, self.control_points
         for value in np.sort(np.asarray(new_knots, dtype=float)):
-            curve = curve.insert_knot(float(value))
-        return curve
+            knots, points = insert_knot(knots, self.degree, points, float(value))
+        return BSplineCurve(self.degree, knots, points)
 
     def subdivide(self, parts: int) -> "BSplineCurve":
         """Uniform h-refinement: split every non-empty knot span into `parts` equal spans.
