@@ -363,6 +363,70 @@ def scatter_jacobian(d_local, basis, index, data):
 
 
 @njit(cache=True)
+def add_entries(matrix, rows, columns, values, out):
+    """The CSR matrix A + B, A in CSR with sorted column indices, B as COO entries (repeated
+    entries summed), with sorted column indices and no explicit zeros: what scipy's
+    `A + scipy.sparse.coo_matrix(B)` gives, without sorting A's entries again.
+
+    Args:
+        matrix: A as its CSR arrays (indptr (n+1,), indices (nnz,), data (nnz,)).
+        rows, columns: (k,) int B's entries' row and column; values: (k,) their values.
+        out: the sum's CSR arrays (indptr (n+1,), indices and data of capacity nnz + k).
+    Returns the number of nonzeros of the sum.
+    """
+    indptr, indices, data = matrix
+    out_indptr, out_indices, out_data = out
+    n = indptr.size - 1
+    # B's entries by row, then column: two stable counting sorts (column first)
+    by_column = _counting_sort(columns, np.arange(rows.size), n)
+    order = _counting_sort(rows, by_column, n)
+    start = np.zeros(n + 1, dtype=np.int64)
+    for entry in range(rows.size):
+        start[rows[entry] + 1] += 1
+    for row in range(n):
+        start[row + 1] += start[row]
+    count = 0
+    out_indptr[0] = 0
+    for row in range(n):
+        a, end = indptr[row], indptr[row + 1]
+        b, last = start[row], start[row + 1]
+        while a < end or b < last:
+            if b == last or (a < end and indices[a] < columns[order[b]]):
+                column, total = indices[a], data[a]
+                a += 1
+            else:
+                column, added = columns[order[b]], 0.0
+                while b < last and columns[order[b]] == column:
+                    added += values[order[b]]
+                    b += 1
+                total = added
+                if a < end and indices[a] == column:
+                    total = data[a] + added
+                    a += 1
+            if total != 0.0:
+                out_indices[count] = column
+                out_data[count] = total
+                count += 1
+        out_indptr[row + 1] = count
+    return count
+
+
+@njit(cache=True)
+def _counting_sort(keys, items, n_keys):
+    """`items` (indices into keys) stably sorted by their keys in [0, n_keys)."""
+    start = np.zeros(n_keys + 1, dtype=np.int64)
+    for item in items:
+        start[keys[item] + 1] += 1
+    for key in range(n_keys):
+        start[key + 1] += start[key]
+    out = np.empty(items.size, dtype=np.int64)
+    for item in items:
+        out[start[keys[item]]] = item
+        start[keys[item]] += 1
+    return out
+
+
+@njit(cache=True)
 def rotation_minimizing_normals(points, tangents, out):
     """Normals d1 of the rotation-minimizing frame along a sampled curve by double reflection
     (Wang, Juttler, Zheng & Liu, ACM TOG 27(1), 2008), after the first (given).

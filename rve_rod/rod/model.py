@@ -461,18 +461,23 @@ class RodModel:
             data += np.bincount(
                 self._pattern.condition_positions, np.concatenate(data_values), minlength=data.size
             )
-            jacobian = scipy.sparse.csr_matrix(
-                (data, self._pattern.indices, self._pattern.indptr),
-                shape=(self.n_dofs, self.n_dofs),
-            )
-            jacobian.has_sorted_indices = True  # the pattern's columns are sorted by row
+            matrix = (self._pattern.indptr, self._pattern.indices, data)
             if load_jacobians:
                 rows, columns, values = (
                     np.concatenate(part) for part in zip(*load_jacobians, strict=True)
                 )
-                jacobian = jacobian + scipy.sparse.coo_matrix(
-                    (values, (rows, columns)), shape=jacobian.shape
+                capacity = data.size + values.size
+                out = (
+                    np.empty(self.n_dofs + 1, dtype=np.int32),
+                    np.empty(capacity, dtype=np.int32),
+                    np.empty(capacity),
                 )
+                count = _kernels.add_entries(matrix, rows, columns, values, out)
+                matrix = (out[0], out[1][:count], out[2][:count])
+            jacobian = scipy.sparse.csr_matrix(
+                (matrix[2], matrix[1], matrix[0]), shape=(self.n_dofs, self.n_dofs)
+            )
+            jacobian.has_sorted_indices = True  # the pattern's and the sum's columns are sorted
         forces = SectionForces(section[:3].copy(), section[3:].copy())
         return Evaluation(residual, jacobian, forces)
 

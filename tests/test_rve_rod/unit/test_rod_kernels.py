@@ -130,3 +130,32 @@ def test_scatter_jacobian_matches_dense_chain_rule(degree):
     assembled = scipy.sparse.csr_matrix((data, pattern.indices, pattern.indptr)).toarray()
     dense[:6] = 0.0
     np.testing.assert_allclose(assembled, dense, atol=1e-12)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_add_entries_matches_scipys_sum(seed):
+    """A (CSR, sorted) + B (COO with repeated entries, inside and outside A's pattern, some
+    cancelling entries of A exactly): the same matrix as scipy's sum, sorted, no zeros."""
+    rng = np.random.default_rng(seed)
+    n = 40
+    matrix = scipy.sparse.random(n, n, density=0.1, format="csr", random_state=seed)
+    matrix.sort_indices()
+    k = 300
+    rows, columns = rng.integers(0, n, k), rng.integers(0, n, k)
+    values = rng.normal(size=k)
+    stored = matrix.tocoo()
+    cancel = rng.choice(stored.nnz, 5, replace=False)  # entries of B that cancel A's
+    rows = np.concatenate([rows, stored.row[cancel]])
+    columns = np.concatenate([columns, stored.col[cancel]])
+    values = np.concatenate([values, -stored.data[cancel]])
+    capacity = matrix.nnz + values.size
+    out = (np.empty(n + 1, np.int32), np.empty(capacity, np.int32), np.empty(capacity))
+    count = _kernels.add_entries(
+        (matrix.indptr, matrix.indices, matrix.data), rows, columns, values, out
+    )
+    expected = matrix + scipy.sparse.coo_matrix((values, (rows, columns)), shape=(n, n))
+    expected.sort_indices()
+    expected.eliminate_zeros()
+    np.testing.assert_array_equal(out[0], expected.indptr)
+    np.testing.assert_array_equal(out[1][:count], expected.indices)
+    np.testing.assert_allclose(out[2][:count], expected.data, rtol=1e-13, atol=1e-15)
