@@ -10,7 +10,13 @@ accepted when
 
 du = -J^-1 R the Newton correction at u itself (an estimate of u's error: the correction is
 computed, and the residual at u + du is not evaluated, one evaluation fewer per step than
-testing the increment that led to u).
+testing the increment that led to u). Where the last two residual norms, extrapolated
+quadratically, put the next iterate 100 times below the residual tolerance and the problem
+has a residual-only callable (`NonlinearProblem.residual`), the next iterate's residual is
+evaluated alone and its correction computed with the Jacobian of the iterate before (at
+convergence the two differ by the order of the last increment); only if that iterate is not
+accepted is it evaluated with its Jacobian. A converged step then costs no Jacobian that is
+not used.
 
 A step whose Newton iteration fails (non-finite values, residual growth beyond
 `divergence_factor`, or `max_iterations` reached) is retried with half the increment, down to
@@ -97,6 +103,9 @@ class NonlinearProblem:
         nodes: (n,) the node of each unknown, for the "NODES" ordering of the LU (unknowns of
             one node, e.g. one control point's, are ordered together); -1 for unknowns to be
             ordered last (few dense rows and columns, e.g. macro unknowns). None: no nodes.
+        residual: (state, load_factor) -> the residual alone, cheaper than `evaluate`; where
+            Newton expects the next iterate to converge it evaluates only the residual there
+            (module docstring). None: every iterate is evaluated with its Jacobian.
     """
 
     evaluate: Evaluate
@@ -105,6 +114,7 @@ class NonlinearProblem:
     commit: Callable[[np.ndarray, float], None] | None = None
     admissible: Callable[[np.ndarray, float], str] | None = None
     nodes: np.ndarray | None = None
+    residual: Callable[[np.ndarray, float], np.ndarray] | None = None
 
 
 _ORDERINGS = ("COLAMD", "NATURAL", "MMD_ATA", "MMD_AT_PLUS_A", "NODES")
@@ -313,6 +323,15 @@ def _forcing(options: NewtonOptions, size: float) -> float:
         return options.linear_tolerance
     floor = _FORCING_FLOOR * options.residual_tolerance / size
     return min(_FORCING_MAX, max(options.linear_tolerance, size, floor))
+
+
+def _expect_convergence(residual_norms: list[float], options: NewtonOptions) -> bool:
+    """Whether quadratic convergence, extrapolated from the last two residual norms
+    (r_k+1 ~ r_k^3 / r_k-1^2), brings the next residual 100 times below the tolerance."""
+    if len(residual_norms) < 2 or not residual_norms[-2] > 0.0:
+        return False
+    predicted = residual_norms[-1] ** 3 / residual_norms[-2] ** 2
+    return predicted <= 0.01 * options.residual_tolerance
 
 
 _HOPELESS = 1e3
@@ -560,6 +579,22 @@ def newton_solve(
             )
         merit = _mean_square(residual, problem.residual_scale)
         trial = state + increment
+        if problem.residual is not None and _expect_convergence(residual_norms, options):
+            found = problem.residual(trial, load_factor)
+            size = _scaled_norm(found, problem.residual_scale)
+            if size <= options.residual_tolerance and np.all(np.isfinite(found)):
+                correction = solver.solve(jacobian, -found, _forcing(options, size))
+                norm = _scaled_norm(correction, problem.state_scale)
+                if norm <= options.increment_tolerance:
+                    return NewtonResult(
+                        trial,
+                        load_factor,
+                        True,
+                        iteration + 1,
+                        (*residual_norms, size),
+                        (*increment_norms, norm),
+                        "converged",
+                    )
         residual, jacobian = problem.evaluate(trial, load_factor)
         for _ in range(options.line_search):
             if (

@@ -515,6 +515,7 @@ class RodModel:
             state_scale=self.state_scale(),
             commit=commit,
             nodes=self.nodes(),
+            residual=self.residual,
         )
 
     def nodes(self) -> np.ndarray:

@@ -324,12 +324,21 @@ class LoopCell:
         )
         problem = rest.problem()
 
-        def evaluate(state, fraction):
+        def grow(fraction):
             grown = radius + fraction * (law.yarn_radius - radius)
             rest.coupling.use_law(dataclasses.replace(law, yarn_radius=grown))
+
+        def evaluate(state, fraction):
+            grow(fraction)
             return problem.evaluate(state, 0.0)
 
-        squeezing = dataclasses.replace(problem, evaluate=evaluate, commit=None, admissible=None)
+        def residual(state, fraction):
+            grow(fraction)
+            return problem.residual(state, 0.0)
+
+        squeezing = dataclasses.replace(
+            problem, evaluate=evaluate, residual=residual, commit=None, admissible=None
+        )
         fractions = np.linspace(0.0, 1.0, SQUEEZE_STEPS + 1)[1:]
         try:
             path = solve_path(

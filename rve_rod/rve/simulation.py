@@ -92,7 +92,8 @@ class RveStep:
         force_gf_per_cm: P : D, the force per width along the load direction (gf/cm).
         lateral_strain: F_aa - 1 of the free normal component (uniaxial cases), else None.
         newton_iterations: Newton iterations of this step (all substeps and failed tries;
-            line-search trials count as iterations).
+            line-search trials count as iterations, as does a residual evaluated alone at an
+            iterate that was then not accepted, `rve_rod.newton`).
         substeps: converged substeps; cutbacks: failed tries that halved the increment.
         active_contacts, sliding_contacts: contact points in contact / slipping.
         max_penetration: largest penetration g = 2r - d (mm).
@@ -271,8 +272,9 @@ class _Snapshot(NamedTuple):
 
     def iterations(self, attempts: int) -> int:
         """Newton iterations (linear solves, line-search trials included) of the `attempts`
-        Newton solves since the previous snapshot: one per evaluation but the first of each
-        solve, plus the correction a converged solve computes without evaluating it."""
+        Newton solves since the previous snapshot: one per evaluation (also of the residual
+        alone) but the first of each solve, plus the correction a converged solve computes
+        without evaluating it."""
         return self.evaluations - attempts + self.converged
 
 
@@ -293,6 +295,10 @@ class _Recorder:
     def evaluate(self, state, load_factor):
         self.evaluations += 1
         return self.problem.evaluate(state, load_factor)
+
+    def residual(self, state, load_factor):
+        self.evaluations += 1
+        return self.problem.residual(state, load_factor)
 
     def admissible(self, state, load_factor) -> str:
         self.converged += 1
@@ -331,6 +337,7 @@ class _Recorder:
             commit=self.commit,
             admissible=self.admissible,
             nodes=self.problem.nodes,
+            residual=self.residual,
         )
 
 
@@ -456,9 +463,7 @@ def run_cell(
         path = error.history
         message, complete = str(error), False
         stopped = error.last_converged
-        unfinished = (
-            recorder.evaluations - stopped.substeps - stopped.cutbacks + recorder.converged
-        )
+        unfinished = recorder.evaluations - stopped.substeps - stopped.cutbacks + recorder.converged
     for record, snapshot in zip(path.steps[1:], recorder.snapshots, strict=False):
         add(
             snapshot,

@@ -359,3 +359,39 @@ def test_nodes_ordering_needs_nodes_and_options_are_checked():
         NewtonOptions(pivot_threshold=2.0)
     with pytest.raises(InputError, match="linear_tolerance=0 is outside"):
         NewtonOptions(linear_tolerance=0.0)
+
+
+def test_an_iterate_expected_to_converge_is_evaluated_without_its_jacobian():
+    """With a residual-only callable, the iterate that quadratic convergence puts below the
+    tolerance costs no Jacobian: the same solution, as many iterations, one full evaluation
+    fewer; the correction there uses the Jacobian of the iterate before."""
+    counts = {"evaluate": 0, "residual": 0}
+    problem = cubic_problem()
+
+    def evaluate(u, t):
+        counts["evaluate"] += 1
+        return problem.evaluate(u, t)
+
+    def residual(u, t):
+        counts["residual"] += 1
+        return problem.evaluate(u, t)[0]
+
+    full = newton_solve(problem, np.array([3.0, 4.0]), 1.0)
+    split = newton_solve(
+        dataclasses.replace(problem, evaluate=evaluate, residual=residual),
+        np.array([3.0, 4.0]),
+        1.0,
+    )
+    assert split.converged and split.iterations == full.iterations
+    assert counts == {"evaluate": full.iterations - 1, "residual": 1}
+    np.testing.assert_allclose(split.state, [1.0, 1.0], atol=1e-12)
+    assert split.residual_norms[-1] <= 1e-10 and split.increment_norms[-1] <= 1e-10
+    assert min(convergence_orders(split.residual_norms)) > 1.8
+
+
+def test_convergence_is_expected_from_the_quadratic_extrapolation_only():
+    options = NewtonOptions()  # residual tolerance 1e-10
+    assert newton._expect_convergence([1e-3, 1e-6], options)  # predicted 1e-12
+    assert not newton._expect_convergence([1e-3, 1e-5], options)  # predicted 1e-9
+    assert not newton._expect_convergence([1e-6], options)  # no rate yet
+    assert not newton._expect_convergence([2e-3, 1e-3], options)  # not converging fast
