@@ -2,8 +2,9 @@
 
 The kernels take NamedTuples of arrays ("records", e.g. `rve_rod.rod._kernels.PointEquations`).
 numba's dispatcher types a NamedTuple argument in Python at every call, array by array (its C
-fast path knows plain arrays and plain tuples only): 40 us for a record of five arrays, 90 us
-for one of eleven, more than many of the kernels take. `record` registers for a record class a
+fast path knows plain arrays and plain tuples only): 40 us for a record of five arrays, 88 us
+a call on average in the reference RVE run, more than many of the kernels take (21 us with
+the cache, timer included; docs/benchmarks.md). `record` registers for a record class a
 typing that looks its type up by the properties of its arrays that numba's typing of an array
 reads (dtype, dimension, layout, writeability: numba.core.typing.typeof._typeof_ndarray), and
 types it the usual way the first time a combination is seen.

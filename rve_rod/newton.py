@@ -579,7 +579,11 @@ def newton_solve(
             )
         merit = _mean_square(residual, problem.residual_scale)
         trial = state + increment
-        if problem.residual is not None and _expect_convergence(residual_norms, options):
+        if (
+            problem.residual is not None
+            and iteration < options.max_iterations  # the correction there is one more
+            and _expect_convergence(residual_norms, options)
+        ):
             found = problem.residual(trial, load_factor)
             size = _scaled_norm(found, problem.residual_scale)
             if size <= options.residual_tolerance and np.all(np.isfinite(found)):
