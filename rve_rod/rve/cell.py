@@ -37,7 +37,11 @@ construction puts them 2r apart. When the contact law acts at a larger radius (t
 r0, `YarnSettings.contact_radius = "measured"`), those contacts are squeezed at rest:
 `LoopCell.rest_state` grows the squeeze from touching to its full size at F = I (the fabric
 at its measured w and c), and the stress of that state, P0, is the cell's `rest_stress`: the
-stresses the cell reports are changes from it, and the free components balance to it.
+stresses the cell reports are changes from it, and the free components balance to it. A yarn
+with a prestrain eps0 (`YarnSettings.prestrain`: its natural length 1 / (1 + eps0) times the
+loop's) makes a taut rest state the same way: the prestrain is grown from 0 to eps0 at F = I
+(with the squeeze, if any), the yarn pulls its loop tight against its contacts, and P0 is the
+stress that holds the cell at its measured w and c.
 """
 
 import dataclasses
@@ -272,6 +276,8 @@ class LoopCell:
             extra_unknowns=free + SUPPORT_UNKNOWNS,
             extra_state_scale=np.r_[np.full(free, 0.1), np.ones(SUPPORT_UNKNOWNS)],
         )
+        if yarn.prestrain:
+            self.model.set_prestrain(yarn.prestrain)
 
     def _offset(self, state: np.ndarray, load_factor: float) -> Offset:
         """x(START) - x(END) = -F a1 and its derivative w.r.t. the free components."""
@@ -307,13 +313,14 @@ class LoopCell:
     def rest_state(self, newton: NewtonOptions, stepping: SteppingOptions) -> np.ndarray:
         """The state the load path starts from (module docstring, "Rest state").
 
-        The reference configuration when the contact law acts at the loop's radius; else the
-        squeezed rest state, grown frictionless at F = I in steps of the contact radius from
-        r to the law's, with cutback (sets `rest_stress`, and makes the rest state's contacts
-        the friction anchors). Raises ConvergenceError if the squeeze cannot be grown.
+        The reference configuration when the contact law acts at the loop's radius and the
+        yarn has no prestrain; else the squeezed or taut rest state, grown frictionless at
+        F = I in steps of the contact radius from r to the law's and of the prestrain from 0
+        to eps0 together, with cutback (sets `rest_stress`, and makes the rest state's
+        contacts the friction anchors). Raises ConvergenceError if it cannot be grown.
         """
-        law, radius = self.yarn.law, self.yarn.radius
-        if law.yarn_radius <= radius:
+        law, radius, prestrain = self.yarn.law, self.yarn.radius, self.yarn.prestrain
+        if law.yarn_radius <= radius and not prestrain:
             return self.reference_state()
         rest = LoopCell(
             self._curves,
@@ -327,6 +334,7 @@ class LoopCell:
         def evaluate(state, fraction):
             grown = radius + fraction * (law.yarn_radius - radius)
             rest.coupling.use_law(dataclasses.replace(law, yarn_radius=grown))
+            rest.model.set_prestrain(fraction * prestrain)
             return problem.evaluate(state, 0.0)
 
         squeezing = dataclasses.replace(problem, evaluate=evaluate, commit=None, admissible=None)
@@ -338,9 +346,11 @@ class LoopCell:
         except ConvergenceError as error:
             raise ConvergenceError(
                 f"the rest state with contacts squeezed by 2 (r0 - r) = "
-                f"{2 * (law.yarn_radius - radius):.4g} mm was not found: {error}"
+                f"{2 * (law.yarn_radius - radius):.4g} mm and the yarn prestrained by "
+                f"{prestrain:g} was not found: {error}"
             ) from error
         squeezed = path.steps[-1].state
+        evaluate(squeezed, 1.0)  # the full squeeze and prestrain for the rest stress
         state = self.reference_state()
         points = self.model.layout.extra_offset
         state[:points] = squeezed[:points]

@@ -1,14 +1,16 @@
 """The squeezed rest state (`YarnSettings.contact_radius = "measured"`, `LoopCell.rest_state`):
 the contact law at the yarn's radius r0 > r squeezes the unloaded loop's contacts; the cell
-starts from that equilibrium at F = I and measures its stresses from it."""
+starts from that equilibrium at F = I and measures its stresses from it. The taut rest state
+(`YarnSettings.prestrain`): a yarn shorter than its loop, held by its contacts, the same way."""
 
 import numpy as np
 import pytest
 
+from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.load_cases import load_case
-from rve_rod.rve.simulation import RveSettings, simulate
+from rve_rod.rve.load_cases import BiaxialRay, load_case
+from rve_rod.rve.simulation import RveSettings, build_cell, loop_curves, simulate
 from rve_rod.rve.yarn import YarnSettings, yarn_model
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
@@ -64,3 +66,50 @@ def test_a_yarn_that_fits_its_loop_has_no_squeeze():
     np.testing.assert_array_equal(runs[0].rest_stress, 0.0)
     np.testing.assert_array_equal(runs[1].rest_stress, 0.0)
     np.testing.assert_array_equal(runs[0].series("first_piola"), runs[1].series("first_piola"))
+
+
+TAUT = RveSettings(
+    cell=CellSettings(control_points=28), yarn=YarnSettings(bending="free-fibres", prestrain=0.02)
+)
+
+
+@pytest.fixture(scope="module")
+def taut_course():
+    return simulate(load_preset("cotton-20s2", 5.5), load_case("uniaxial-course", 0.1, 5), TAUT)
+
+
+def test_a_prestrained_yarn_pulls_its_loop_taut_and_the_stresses_start_from_it(taut_course):
+    """The yarn, 2 % longer than its natural length, pulls the cell in along both axes (P0
+    tensile); the reported stress starts at zero and the free direction keeps its rest load."""
+    rest = n_per_mm_to_gf_per_cm(taut_course.rest_stress)
+    assert rest[0, 0] > 1.0 and rest[1, 1] > 1.0
+    first = taut_course.steps[0]
+    np.testing.assert_allclose(first.first_piola, 0.0, atol=1e-8)
+    assert first.lateral_strain == pytest.approx(0.0, abs=1e-9)
+    for step in taut_course.steps:
+        assert abs(step.first_piola[1, 1]) <= 1e-8 + 1e-3 * abs(step.first_piola[0, 0])
+        np.testing.assert_allclose(
+            step.stress_parts.sum(axis=0), step.first_piola + taut_course.rest_stress, atol=1e-12
+        )
+    assert taut_course.complete and taut_course.steps[-1].force_gf_per_cm > 1.0
+
+
+def test_the_taut_rest_state_shortens_the_yarn_by_what_its_force_says():
+    """At rest the loop gives up most of the yarn's excess length (its contacts hold little of
+    the prestrain): the yarn length lies between the natural L / (1 + eps0) and the
+    template's L, and its axial force, averaged along the yarn, is EA (L_rest / L -
+    1 / (1 + eps0)), the force the prestrained strain measure gives for that length."""
+    fabric = load_preset("cotton-20s2", 5.5)
+    cell = build_cell(loop_curves(fabric), fabric, BiaxialRay(steps=2), TAUT)
+    rest = cell.rest_state(TAUT.newton, TAUT.stepping)
+    force = cell.model.evaluate(rest, 0.0, with_jacobian=False).section.force
+    curve = cell.curve
+    deformed = BSplineCurve(curve.degree, curve.knots, cell.positions(rest))
+    tangent = deformed(cell.model.collocation[0].parameters, 1)
+    axial = np.sum(force.T * tangent, axis=1) / np.linalg.norm(tangent, axis=1)
+    weights = cell.model.tributary_lengths
+    prestrain, length = TAUT.yarn.prestrain, curve.arc_length()
+    stretch = deformed.arc_length() / length
+    assert 1.0 / (1.0 + prestrain) < stretch < 1.0
+    expected = cell.yarn.section.axial * (stretch - 1.0 / (1.0 + prestrain))
+    assert np.sum(axial * weights) / np.sum(weights) == pytest.approx(expected, rel=1e-3)
