@@ -20,7 +20,9 @@ From yarn (r0, E0, nu, mu) and knit (w) as design.md states it (Weeger et al.):
 * pre-tension (`YarnSettings.prestrain`, eps0, default 0): the yarn's natural length
   1 / (1 + eps0) times the loop's (`RodModel.set_prestrain`), a taut loop held by its
   contacts (`rve_rod.rve.cell.LoopCell.rest_state`; docs/validation.md, "The paper group's
-  RVE").
+  RVE"); with `YarnSettings.natural_length = "measured"` the natural length is the fabric's
+  measured loop length l / (1 + eps0) instead, so that a template longer than l is stretched
+  by that much more (`NATURAL_LENGTHS`).
 """
 
 import logging
@@ -39,6 +41,7 @@ __all__ = [
     "BENDING_CHOICES",
     "BENDING_MODELS",
     "CONTACT_RADII",
+    "NATURAL_LENGTHS",
     "PRESTRAIN_LIMIT",
     "YarnModel",
     "YarnSettings",
@@ -65,6 +68,12 @@ is squeezed by 2 (r0 - r), and the cell starts from that pre-loaded rest state
 (`rve_rod.rve.cell.LoopCell.rest_state`; docs/validation.md, "The paper group's RVE")."""
 
 
+NATURAL_LENGTHS = ("template", "measured")
+"""What the prestrain eps0 is counted from: "template" (the default), the loop template's
+yarn length L, natural length L / (1 + eps0); "measured", the fabric's measured loop length l,
+natural length l / (1 + eps0): the rod's prestrain is then (1 + eps0) L / l - 1, larger where
+the template holds more yarn than the fabric (`rve_rod.rve.cell.LoopCell.prestrain`)."""
+
 PRESTRAIN_LIMIT = 0.2
 """Largest yarn prestrain eps0 accepted (-): cotton's strain at break is 5-10 %."""
 
@@ -84,6 +93,7 @@ class YarnSettings:
         contact_radius: one of CONTACT_RADII (default "adjusted").
         prestrain: eps0, the loop's yarn stretched by eps0 over its natural length, in
             [0, PRESTRAIN_LIMIT] (default 0: the loop as built is stress-free).
+        natural_length: one of NATURAL_LENGTHS (default "template").
     """
 
     second_moment: str = SOLID_CIRCLE
@@ -94,6 +104,7 @@ class YarnSettings:
     bending: str = "auto"
     contact_radius: str = "adjusted"
     prestrain: float = 0.0
+    natural_length: str = "template"
 
     def __post_init__(self):
         if self.second_moment not in (SOLID_CIRCLE, PAPER_CIRCLE):
@@ -114,6 +125,11 @@ class YarnSettings:
                 f"{', '.join(CONTACT_RADII)}"
             )
         check_range("prestrain", self.prestrain, 0.0, PRESTRAIN_LIMIT)
+        if self.natural_length not in NATURAL_LENGTHS:
+            raise InputError(
+                f"natural_length={self.natural_length!r} is unknown; valid: "
+                f"{', '.join(NATURAL_LENGTHS)}"
+            )
         if self.bending != "section" and self.second_moment != SOLID_CIRCLE:
             raise InputError(
                 f"second_moment={self.second_moment!r} applies to bending='section' only "
@@ -134,6 +150,7 @@ class YarnModel(NamedTuple):
             `YarnSettings.contact_radius = "measured"`).
         friction: Coulomb friction, or None (frictionless scene).
         prestrain: eps0 of `YarnSettings.prestrain` (-).
+        natural_length: what eps0 is counted from (`YarnSettings.natural_length`).
     """
 
     radius: float
@@ -143,6 +160,7 @@ class YarnModel(NamedTuple):
     law: CompressibleYarnLaw
     friction: CoulombFriction | None
     prestrain: float = 0.0
+    natural_length: str = "template"
 
 
 def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnModel:
@@ -185,6 +203,7 @@ def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnM
         law=law,
         friction=friction,
         prestrain=settings.prestrain,
+        natural_length=settings.natural_length,
     )
 
 

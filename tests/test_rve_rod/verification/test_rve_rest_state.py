@@ -3,10 +3,14 @@ the contact law at the yarn's radius r0 > r squeezes the unloaded loop's contact
 starts from that equilibrium at F = I and measures its stresses from it. The taut rest state
 (`YarnSettings.prestrain`): a yarn shorter than its loop, held by its contacts, the same way."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
+from rve_rod.errors import InputError
 from rve_rod.geometry.bspline import BSplineCurve
+from rve_rod.geometry.loop import loop_geometry
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import BiaxialRay, load_case
@@ -113,3 +117,28 @@ def test_the_taut_rest_state_shortens_the_yarn_by_what_its_force_says():
     assert 1.0 / (1.0 + prestrain) < stretch < 1.0
     expected = cell.yarn.section.axial * (stretch - 1.0 / (1.0 + prestrain))
     assert np.sum(axial * weights) / np.sum(weights) == pytest.approx(expected, rel=1e-3)
+
+
+@pytest.mark.parametrize("stitch", [4.5, 6.5])
+def test_counted_from_the_measured_loop_length_the_prestrain_is_the_templates_excess(stitch):
+    """natural_length="measured": the yarn's natural length is l / (1 + eps0), l the measured
+    loop length, so the rods' prestrain is (1 + eps0) L / l - 1 with L the loop template's
+    length (`loop_geometry`); a knit without a measured loop length is refused."""
+    fabric = load_preset("cotton-20s2", stitch)
+    yarn = YarnSettings(bending="free-fibres", prestrain=0.02, natural_length="measured")
+    cell = build_cell(
+        loop_curves(fabric), fabric, BiaxialRay(steps=2), RveSettings(cell=TAUT.cell, yarn=yarn)
+    )
+    template = loop_geometry(fabric.knit, fabric.yarn.minimal_radius).loop_length
+    expected = 1.02 * template / fabric.knit.measured_loop_length - 1.0
+    assert cell.prestrain == pytest.approx(expected, rel=1e-9)
+    unmeasured = dataclasses.replace(
+        fabric, knit=dataclasses.replace(fabric.knit, measured_loop_length=None)
+    )
+    with pytest.raises(InputError, match="natural_length='measured' needs"):
+        build_cell(
+            loop_curves(unmeasured),
+            unmeasured,
+            BiaxialRay(steps=2),
+            RveSettings(cell=TAUT.cell, yarn=yarn),
+        )
