@@ -74,6 +74,21 @@ VARIANTS = (
         "section I = pi r^4/12, contact x3",
         {**SECTION, "second_moment": "paper", "contact_stiffness_factor": 0.03},
     ),
+    *(
+        Variant(f"free fibres, prestrain eps0 = {100 * eps0:g} %", {**FIBRES, "prestrain": eps0})
+        for eps0 in (0.005, 0.01, 0.02, 0.04, 0.08)
+    ),
+    *(
+        Variant(
+            f"free fibres, natural length l / (1 + eps0), eps0 = {100 * eps0:g} %",
+            {**FIBRES, "prestrain": eps0, "natural_length": "measured"},
+        )
+        for eps0 in (0.0, 0.02, 0.04)
+    ),
+    Variant(
+        "free fibres, contact at r0 and prestrain eps0 = 2 %",
+        {**FIBRES, "contact_radius": "measured", "prestrain": 0.02},
+    ),
 )
 
 

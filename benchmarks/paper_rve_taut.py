@@ -1,0 +1,113 @@
+"""The taut loop (issue 27): what a yarn prestrain eps0 does to the cell at rest.
+
+For each stitch value and prestrain (`YarnSettings.prestrain`, free-fibre bending): the taut
+rest state at F = I (`LoopCell.rest_state`), the yarn's internal force there against the force
+EA eps0 / (1 + eps0) of a yarn held at its template length (how much of the prestrain the
+contacts hold), the largest contact penetration beyond the squeeze (in yarn radii r), the rest
+stress P0, and the secant stiffness at rest, C of S = C E, from the first state of the group's
+two rays nearest the axes (6.4 and 83.6 degrees) against theirs from the same states. The
+table goes into docs/validation.md ("The paper group's RVE", the taut loop).
+`--contact-radius measured` adds the squeeze of the contacts at rest
+(`YarnSettings.contact_radius`), alone (eps0 = 0) or with the prestrain;
+`--contact-stiffness-factor` changes the contact law's stiffness (the 0.01 of k = 0.01 E0
+(r0/r)^8): how much of the prestrain a stiffer contact holds.
+
+    .venv/bin/python benchmarks/paper_rve_taut.py [--stitches 4.5,5.5,6.5]
+        [--prestrains 0,0.01,0.02,0.04,0.08] [--contact-radius adjusted]
+        [--contact-stiffness-factor 0.01] [--control-points 28]
+
+About 5 s per row on a quiet core.
+"""
+
+import argparse
+
+import numpy as np
+
+from rve_rod.contact.law import DEFAULT_STIFFNESS_FACTOR
+from rve_rod.presets import load_preset
+from rve_rod.rve.cell import CellSettings
+from rve_rod.rve.load_cases import BiaxialRay
+from rve_rod.rve.paper_comparison import compare_run
+from rve_rod.rve.paper_data import GroupRun, biaxial_rays
+from rve_rod.rve.simulation import RveSettings, build_cell, loop_curves
+from rve_rod.rve.yarn import CONTACT_RADII, YarnSettings
+from rve_rod.stress_measures import green_lagrange
+from rve_rod.units import n_per_mm_to_gf_per_cm as gf
+
+AXIS_RAYS = (6.4, 83.6)
+"""The group's rays nearest the course and wale axes (degrees in the strain plane)."""
+
+
+def secant_at_rest(rays: list[GroupRun], stresses: np.ndarray) -> np.ndarray:
+    """(2, 2) C of (S11, S22) = C (E11, E22) through the first states of two rays, given
+    their (2, 2) diagonal stresses S (N/mm) there."""
+    strains = np.array([np.diagonal(green_lagrange(ray.deformation[0])) for ray in rays])
+    return np.linalg.solve(strains, stresses).T
+
+
+def measure(stitch: float, prestrain: float, yarn: dict, control_points: int) -> dict:
+    """The row of one stitch value and prestrain; `yarn`: further YarnSettings fields."""
+    settings = RveSettings(
+        cell=CellSettings(control_points=control_points),
+        yarn=YarnSettings(bending="free-fibres", prestrain=prestrain, **yarn),
+    )
+    fabric = load_preset("cotton-20s2", stitch)
+    cell = build_cell(loop_curves(fabric), fabric, BiaxialRay(steps=2), settings)
+    rest = cell.rest_state(settings.newton, settings.stepping)
+    force = np.linalg.norm(
+        cell.model.evaluate(rest, 0.0, with_jacobian=False).section.force, axis=0
+    )
+    statistics = cell.coupling.result(rest, 0.0, tangent=False).statistics
+    squeeze = 2.0 * (cell.yarn.law.yarn_radius - cell.yarn.radius)
+    rays = [min(biaxial_rays(stitch), key=lambda ray: abs(ray.angle_deg - a)) for a in AXIS_RAYS]
+    ours = [
+        np.diagonal(compare_run(fabric, ray, settings, states=1).second_piola[0]) for ray in rays
+    ]
+    theirs = [np.diagonal(ray.second_piola[0]) for ray in rays]
+    axial = cell.yarn.section.axial
+    return {
+        "held": axial * prestrain / (1.0 + prestrain),
+        "force": (force.mean(), force.min(), force.max()),
+        "penetration": (statistics.max_penetration - squeeze) / cell.yarn.radius,
+        "rest": gf(np.diagonal(cell.rest_stress)),
+        "ours": gf(secant_at_rest(rays, np.array(ours))),
+        "theirs": gf(secant_at_rest(rays, np.array(theirs))),
+    }
+
+
+def matrix(c: np.ndarray) -> str:
+    return f"[[{c[0, 0]:.0f}, {c[0, 1]:.0f}], [{c[1, 0]:.0f}, {c[1, 1]:.0f}]]"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--stitches", default="4.5,5.5,6.5")
+    parser.add_argument("--prestrains", default="0,0.01,0.02,0.04,0.08")
+    parser.add_argument("--contact-radius", choices=CONTACT_RADII, default="adjusted")
+    parser.add_argument("--contact-stiffness-factor", type=float, default=DEFAULT_STIFFNESS_FACTOR)
+    parser.add_argument("--control-points", type=int, default=28)
+    args = parser.parse_args()
+    print(
+        "| stitch | eps0 | EA eps0/(1+eps0) (mN) | yarn force at rest, mean (min-max) (mN) | "
+        "largest penetration / r | P0 11, 22 (gf/cm) | C at rest, ours (gf/cm) | theirs |"
+    )
+    print("|---:|---:|---:|---|---:|---|---|---|")
+    for stitch in (float(s) for s in args.stitches.split(",")):
+        for prestrain in (float(e) for e in args.prestrains.split(",")):
+            yarn = {
+                "contact_radius": args.contact_radius,
+                "contact_stiffness_factor": args.contact_stiffness_factor,
+            }
+            row = measure(stitch, prestrain, yarn, args.control_points)
+            mean, low, high = (1e3 * f for f in row["force"])
+            print(
+                f"| {stitch:g} | {100 * prestrain:g} % | {1e3 * row['held']:.0f} | "
+                f"{mean:.1f} ({low:.1f}-{high:.1f}) | {row['penetration']:.2f} | "
+                f"{row['rest'][0]:.1f}, {row['rest'][1]:.1f} | {matrix(row['ours'])} | "
+                f"{matrix(row['theirs'])} |",
+                flush=True,
+            )
+
+
+if __name__ == "__main__":
+    main()
