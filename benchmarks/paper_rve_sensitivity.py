@@ -76,14 +76,14 @@ VARIANTS = (
     ),
     *(
         Variant(f"free fibres, prestrain eps0 = {100 * eps0:g} %", {**FIBRES, "prestrain": eps0})
-        for eps0 in (0.005, 0.01, 0.02, 0.04, 0.08)
+        for eps0 in (0.005, 0.01, 0.02, 0.03, 0.04, 0.06, 0.08)
     ),
     *(
         Variant(
             f"free fibres, natural length l / (1 + eps0), eps0 = {100 * eps0:g} %",
             {**FIBRES, "prestrain": eps0, "natural_length": "measured"},
         )
-        for eps0 in (0.0, 0.02, 0.04)
+        for eps0 in (0.0, 0.02, 0.03, 0.04)
     ),
     Variant(
         "free fibres, contact at r0 and prestrain eps0 = 2 %",
