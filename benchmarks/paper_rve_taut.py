@@ -5,8 +5,10 @@ rest state at F = I (`LoopCell.rest_state`), the yarn's internal force there aga
 EA eps0 / (1 + eps0) of a yarn held at its template length (how much of the prestrain the
 contacts hold), the largest contact penetration beyond the squeeze (in yarn radii r), the rest
 stress P0, and the secant stiffness at rest, C of S = C E, from the first state of the group's
-two rays nearest the axes (6.4 and 83.6 degrees) against theirs from the same states. The
-table goes into docs/validation.md ("The paper group's RVE", the taut loop).
+two rays nearest the axes (6.4 and 83.6 degrees) against theirs from the same states. A
+second table follows their equibiaxial ray to its last converged state: S, and how much of
+the affine stretch of the yarn the yarn takes (the rest goes into the contacts and the loop's
+shape). The tables go into docs/validation.md ("The paper group's RVE", the taut loop).
 `--contact-radius measured` adds the squeeze of the contacts at rest
 (`YarnSettings.contact_radius`), alone (eps0 = 0) or with the prestrain;
 `--contact-stiffness-factor` changes the contact law's stiffness (the 0.01 of k = 0.01 E0
@@ -16,7 +18,7 @@ table goes into docs/validation.md ("The paper group's RVE", the taut loop).
         [--prestrains 0,0.01,0.02,0.04,0.08] [--contact-radius adjusted]
         [--contact-stiffness-factor 0.01] [--control-points 28]
 
-About 5 s per row on a quiet core.
+About 5 s per row of the first table, 10-30 s per row of the second, on a quiet core.
 """
 
 import argparse
@@ -24,10 +26,11 @@ import argparse
 import numpy as np
 
 from rve_rod.contact.law import DEFAULT_STIFFNESS_FACTOR
+from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import BiaxialRay
-from rve_rod.rve.paper_comparison import compare_run
+from rve_rod.rve.paper_comparison import compare_run, run_case, run_or_history
 from rve_rod.rve.paper_data import GroupRun, biaxial_rays
 from rve_rod.rve.simulation import RveSettings, build_cell, loop_curves
 from rve_rod.rve.yarn import CONTACT_RADII, YarnSettings
@@ -75,6 +78,36 @@ def measure(stitch: float, prestrain: float, yarn: dict, control_points: int) ->
     }
 
 
+def along_equibiaxial(stitch: float, prestrain: float, yarn: dict, control_points: int) -> dict:
+    """Our cell along the group's equibiaxial ray to its last converged state (or as far as
+    ours gets): S there, ours and theirs, and how the cell took the stretch: the yarn's
+    elongation from rest (its length per loop from the centreline) against the affine one (the
+    template's centreline mapped by F), and the largest contact penetration."""
+    settings = RveSettings(
+        cell=CellSettings(control_points=control_points),
+        yarn=YarnSettings(bending="free-fibres", prestrain=prestrain, **yarn),
+    )
+    fabric = load_preset("cotton-20s2", stitch)
+    ray = min(biaxial_rays(stitch), key=lambda ray: abs(ray.angle_deg - 45.0))
+    result = run_or_history(fabric, run_case(ray, ray.converged), settings)
+    last = len(result.steps) - 1
+    template = result.curve
+    stretch = np.eye(3)
+    stretch[:2, :2] = result.steps[last].deformation
+    affine = BSplineCurve(template.degree, template.knots, template.control_points @ stretch.T)
+    length = template.arc_length()
+    rest, loaded = (result.centreline(k).arc_length() for k in (0, last))
+    step = result.steps[last]
+    return {
+        "strain": step.green_lagrange[0],
+        "ours": gf(step.second_piola[:2]),
+        "theirs": gf(np.diagonal(ray.second_piola[last - 1])),
+        "yarn": (loaded - rest) / length,
+        "affine": affine.arc_length() / length - 1.0,
+        "penetration": step.max_penetration / result.yarn.radius,
+    }
+
+
 def matrix(c: np.ndarray) -> str:
     return f"[[{c[0, 0]:.0f}, {c[0, 1]:.0f}], [{c[1, 0]:.0f}, {c[1, 1]:.0f}]]"
 
@@ -105,6 +138,22 @@ def main():
                 f"{mean:.1f} ({low:.1f}-{high:.1f}) | {row['penetration']:.2f} | "
                 f"{row['rest'][0]:.1f}, {row['rest'][1]:.1f} | {matrix(row['ours'])} | "
                 f"{matrix(row['theirs'])} |",
+                flush=True,
+            )
+    print(
+        "\n| stitch | eps0 | E11 = E22 | S11, S22 ours (gf/cm) | theirs | yarn elongation from "
+        "rest | affine | ratio | largest penetration / r |"
+    )
+    print("|---:|---:|---:|---|---|---:|---:|---:|---:|")
+    for stitch in (float(s) for s in args.stitches.split(",")):
+        for prestrain in (float(e) for e in args.prestrains.split(",")):
+            row = along_equibiaxial(stitch, prestrain, yarn, args.control_points)
+            print(
+                f"| {stitch:g} | {100 * prestrain:g} % | {row['strain']:.3f} | "
+                f"{row['ours'][0]:.1f}, {row['ours'][1]:.1f} | "
+                f"{row['theirs'][0]:.1f}, {row['theirs'][1]:.1f} | {100 * row['yarn']:.2f} % | "
+                f"{100 * row['affine']:.2f} % | {row['yarn'] / row['affine']:.3f} | "
+                f"{row['penetration']:.2f} |",
                 flush=True,
             )
 
