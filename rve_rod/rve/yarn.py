@@ -82,7 +82,8 @@ these values (`rve_rod.rve.engine.RodRve.cache_identity`), so that the runs and 
 cached before the fields existed stay valid."""
 
 PRESTRAIN_LIMIT = 0.2
-"""Largest yarn prestrain eps0 accepted (-): cotton's strain at break is 5-10 %."""
+"""Largest yarn prestrain eps0 accepted (-); the experiments of docs/validation.md ("The taut
+loop") go to 0.08."""
 
 
 @dataclass(frozen=True)
