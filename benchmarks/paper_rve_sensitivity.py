@@ -63,6 +63,7 @@ VARIANTS = (
     Variant("free fibres (the default)", FIBRES),
     Variant("free fibres, frictionless", {**FIBRES, "friction": False}),
     Variant("free fibres, contact stiffness x3", {**FIBRES, "contact_stiffness_factor": 0.03}),
+    Variant("free fibres, contact stiffness x10", {**FIBRES, "contact_stiffness_factor": 0.1}),
     Variant("free fibres, contact exponent p = 1", FIBRES, with_exponent(1.0)),
     Variant("free fibres, contact at r0 (squeezed rest)", {**FIBRES, "contact_radius": "measured"}),
     Variant("free fibres, parabolic loop", FIBRES, profile="parabolic"),
