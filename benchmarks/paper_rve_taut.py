@@ -16,14 +16,16 @@ shape). The tables go into docs/validation.md ("The paper group's RVE", the taut
 
     .venv/bin/python benchmarks/paper_rve_taut.py [--stitches 4.5,5.5,6.5]
         [--prestrains 0,0.01,0.02,0.04,0.08] [--contact-radius adjusted]
-        [--contact-stiffness-factor 0.01] [--control-points 28]
+        [--contact-stiffness-factor 0.01] [--control-points 28] [--figure PATH]
 
 About 5 s per row of the first table, 10-30 s per row of the second, on a quiet core.
 """
 
 import argparse
+from pathlib import Path
 
 import numpy as np
+from matplotlib.figure import Figure
 
 from rve_rod.contact.law import DEFAULT_STIFFNESS_FACTOR
 from rve_rod.geometry.bspline import BSplineCurve
@@ -90,22 +92,73 @@ def along_equibiaxial(stitch: float, prestrain: float, yarn: dict, control_point
     fabric = load_preset("cotton-20s2", stitch)
     ray = min(biaxial_rays(stitch), key=lambda ray: abs(ray.angle_deg - 45.0))
     result = run_or_history(fabric, run_case(ray, ray.converged), settings)
-    last = len(result.steps) - 1
     template = result.curve
-    stretch = np.eye(3)
-    stretch[:2, :2] = result.steps[last].deformation
-    affine = BSplineCurve(template.degree, template.knots, template.control_points @ stretch.T)
     length = template.arc_length()
-    rest, loaded = (result.centreline(k).arc_length() for k in (0, last))
+    yarn_series, affine_series = [], []
+    for k, step in enumerate(result.steps):
+        stretch = np.eye(3)
+        stretch[:2, :2] = step.deformation
+        affine = BSplineCurve(template.degree, template.knots, template.control_points @ stretch.T)
+        affine_series.append(affine.arc_length() / length - 1.0)
+        yarn_series.append(result.centreline(k).arc_length() / length)
+    yarn_series = np.array(yarn_series) - yarn_series[0]
+    last = len(result.steps) - 1
     step = result.steps[last]
     return {
         "strain": step.green_lagrange[0],
         "ours": gf(step.second_piola[:2]),
         "theirs": gf(np.diagonal(ray.second_piola[last - 1])),
-        "yarn": (loaded - rest) / length,
-        "affine": affine.arc_length() / length - 1.0,
+        "yarn": yarn_series[last],
+        "affine": affine_series[last],
         "penetration": step.max_penetration / result.yarn.radius,
+        "series": {
+            "strain": result.series("green_lagrange")[:, 1],
+            "stress": gf(result.series("second_piola")[:, 1]),
+            "their_strain": np.r_[0.0, [green_lagrange(f)[1, 1] for f in ray.deformation]],
+            "their_stress": gf(np.r_[0.0, ray.second_piola[:, 1, 1]]),
+            "converged": ray.converged,
+            "yarn": yarn_series,
+            "affine": np.array(affine_series),
+        },
     }
+
+
+def plot_equibiaxial(rows: dict, path: Path) -> None:
+    """S22 along their equibiaxial ray (theirs: dots, hollow for the first few beyond their
+    converged states; ours: a line per prestrain), and the yarn's elongation against the
+    affine one (dotted: the yarn stretched affinely)."""
+    stitches = sorted({stitch for stitch, _ in rows})
+    figure = Figure(figsize=(4.0 * len(stitches), 7.0), dpi=110)
+    axes = figure.subplots(2, len(stitches), squeeze=False)
+    for column, stitch in enumerate(stitches):
+        top, bottom = axes[0, column], axes[1, column]
+        prestrains = [prestrain for at, prestrain in rows if at == stitch]
+        for colour, prestrain in enumerate(prestrains):
+            series = rows[(stitch, prestrain)]["series"]
+            if colour == 0:
+                n = series["converged"] + 1
+                top.plot(series["their_strain"][:n], series["their_stress"][:n], "ko", ms=4)
+                beyond = slice(n - 1, n + 3)  # a few of their unconverged states
+                top.plot(
+                    series["their_strain"][beyond], series["their_stress"][beyond], "ko", mfc="none"
+                )
+                most = 100 * series["affine"].max()
+                bottom.plot([0, most], [0, most], "k:", label="affine")
+            label = f"eps0 = {100 * prestrain:g} %"
+            top.plot(series["strain"], series["stress"], "-", color=f"C{colour}", label=label)
+            bottom.plot(
+                100 * series["affine"], 100 * series["yarn"], "-", color=f"C{colour}", label=label
+            )
+        top.set_title(f"stitch {stitch:g}: equibiaxial ray")
+        top.set_xlabel("E11 = E22")
+        top.set_ylabel("S22 (gf/cm)")
+        bottom.set_xlabel("affine yarn elongation (%)")
+        bottom.set_ylabel("yarn elongation from rest (%)")
+        for axis in (top, bottom):
+            axis.grid(alpha=0.3)
+        top.legend(fontsize=8)
+    figure.tight_layout()
+    figure.savefig(path)
 
 
 def matrix(c: np.ndarray) -> str:
@@ -119,6 +172,7 @@ def main():
     parser.add_argument("--contact-radius", choices=CONTACT_RADII, default="adjusted")
     parser.add_argument("--contact-stiffness-factor", type=float, default=DEFAULT_STIFFNESS_FACTOR)
     parser.add_argument("--control-points", type=int, default=28)
+    parser.add_argument("--figure", type=Path, help="PNG of the equibiaxial runs")
     args = parser.parse_args()
     print(
         "| stitch | eps0 | EA eps0/(1+eps0) (mN) | yarn force at rest, mean (min-max) (mN) | "
@@ -145,9 +199,12 @@ def main():
         "rest | affine | ratio | largest penetration / r |"
     )
     print("|---:|---:|---:|---|---|---:|---:|---:|---:|")
+    rows = {}
     for stitch in (float(s) for s in args.stitches.split(",")):
         for prestrain in (float(e) for e in args.prestrains.split(",")):
-            row = along_equibiaxial(stitch, prestrain, yarn, args.control_points)
+            row = rows[(stitch, prestrain)] = along_equibiaxial(
+                stitch, prestrain, yarn, args.control_points
+            )
             print(
                 f"| {stitch:g} | {100 * prestrain:g} % | {row['strain']:.3f} | "
                 f"{row['ours'][0]:.1f}, {row['ours'][1]:.1f} | "
@@ -156,6 +213,8 @@ def main():
                 f"{row['penetration']:.2f} |",
                 flush=True,
             )
+    if args.figure is not None:
+        plot_equibiaxial(rows, args.figure)
 
 
 if __name__ == "__main__":
