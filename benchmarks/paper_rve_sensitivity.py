@@ -6,8 +6,10 @@ and 6.5 (`rve_rod.rve.paper_comparison`): along their 12 biaxial rays at every c
 of theirs (rays within the 20 % target; the median over the rays of each ray's worst error;
 the mean error at the first state, which measures the stiffness at rest), their picture-frame
 shear (the error at their state 6, 20 degrees, and 12, 40 degrees), and the uniaxial forces and
-Poisson ratios at 20 % against their readings. The last rows combine ingredients. The table
-goes into docs/validation.md ("The paper group's RVE").
+Poisson ratios at 20 % against their readings. The last rows combine ingredients; the rows
+"prestrain" and "natural length" are the taut-loop experiment (a yarn shorter than its loop,
+`YarnSettings.prestrain`; docs/validation.md, "The taut loop"). The table goes into
+docs/validation.md ("The paper group's RVE").
 
     .venv/bin/python benchmarks/paper_rve_sensitivity.py [--control-points 28]
         [--stitches 4.5,5.5,6.5] [--only NAME ...]
