@@ -9,7 +9,8 @@ from petsc4py import PETSc
 from support.surface_cases import synthetic_surface
 
 from fabric_dolfinx.material import surface_material
-from fabric_dolfinx.membrane.forms import flat_frame, membrane_forms
+from fabric_dolfinx.membrane.forms import flat_frame, green_lagrange, membrane_forms
+from fabric_dolfinx.membrane.quadrature import QuadratureMaterial
 from fabric_dolfinx.mesh.shapes import make_mesh
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
 from fabric_dolfinx.spec.part import MeshSpec
@@ -31,7 +32,9 @@ def stretched_plate_reaction(refinements: int) -> float:
     domain = tagged.mesh
     space = fem.VectorFunctionSpace(domain, ("Lagrange", 1))
     u = fem.Function(space)
-    forms = membrane_forms(u, MATERIAL.law, flat_frame(domain))
+    frame = flat_frame(domain)
+    points = QuadratureMaterial(green_lagrange(u, frame), domain, [MATERIAL], 2)
+    forms = membrane_forms(u, points, frame)
     stretch = fem.Constant(domain, PETSc.ScalarType(0.0))
     corner = dolfinx_mesh.locate_entities_boundary(
         domain, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], 0.0)
@@ -50,7 +53,13 @@ def stretched_plate_reaction(refinements: int) -> float:
     ]
     reactions = {"right": boundary_indicator(space, tagged.facets("right"))}
     stepper = LoadStepper(
-        forms.residual, forms.jacobian, u, bcs, options=SolverOptions(steps=2), reactions=reactions
+        forms.residual,
+        forms.jacobian,
+        u,
+        bcs,
+        options=SolverOptions(steps=2),
+        reactions=reactions,
+        update=points.update,
     )
 
     def apply_load(t):
