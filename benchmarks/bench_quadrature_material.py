@@ -32,6 +32,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import timeit
 from dataclasses import replace
 from pathlib import Path
 
@@ -114,13 +115,8 @@ def child_assembly(elements):
         dolfinx.fem.petsc.assemble_matrix(stepper._matrix, stepper._jacobian_form, bcs=stepper.bcs)
         stepper._matrix.assemble()
 
-    def best(function, repeat=7):
-        times = []
-        for _ in range(repeat):
-            start = time.perf_counter()
-            function()
-            times.append(time.perf_counter() - start)
-        return min(times)
+    def best(function):
+        return min(timeit.repeat(function, repeat=7, number=1))
 
     update = getattr(getattr(setup.problem, "material", None), "update", None)
     record = {
