@@ -93,10 +93,8 @@ class QuadratureMaterial:
             ufl.as_vector([strain[0, 0], strain[1, 1], strain[0, 1]]), self.points
         )
         count = mesh.topology.index_map(2).size_local + mesh.topology.index_map(2).num_ghosts
-        if cell_material is None:
-            cell_material = np.zeros(count, dtype=np.int32)
-        if stitch is None:
-            stitch = np.zeros(count)
+        cell_material = np.zeros(count, int) if cell_material is None else np.asarray(cell_material)
+        stitch = np.zeros(count) if stitch is None else np.asarray(stitch, dtype=float)
         if len(cell_material) != count or len(stitch) != count:
             raise InputError(
                 f"cell_material and stitch need one value per local cell ({count}), got "
@@ -106,7 +104,7 @@ class QuadratureMaterial:
         points = self.points.shape[0]
         self._cells = []  # per law: (its cells, their points' dofs, their points' stitch)
         for number in range(len(self.materials)):
-            cells = np.flatnonzero(np.asarray(cell_material) == number).astype(np.int32)
+            cells = np.flatnonzero(cell_material == number).astype(np.int32)
             self._cells.append((cells, dofs[cells].ravel(), np.repeat(stitch[cells], points)))
 
     @property
