@@ -26,23 +26,16 @@ import time
 from pathlib import Path
 
 import dolfinx.fem.petsc
-import numpy as np
-from dolfinx import fem
-from dolfinx import mesh as dolfinx_mesh
 from mpi4py import MPI
-from petsc4py import PETSc
 
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
-from fabric_dolfinx.membrane.forms import flat_frame, green_lagrange, membrane_forms
-from fabric_dolfinx.membrane.quadrature import QuadratureMaterial
-from fabric_dolfinx.mesh.shapes import make_mesh
 from fabric_dolfinx.part.tension import TensionSetup
-from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
-from fabric_dolfinx.spec.part import MeshSpec
+from fabric_dolfinx.solve import SolverOptions
 from fabric_dolfinx.spec.tension import TensionTest
 
 # the synthetic surface is a test fixture (tests/support/surface_cases.py)
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from support.plate_cases import stretched_plate
 from support.surface_cases import synthetic_surface
 
 MPI_ENV = {
@@ -172,47 +165,10 @@ def scaling_section(quick):
 
 
 def hole_reaction(degree, quadrature_degree, refinements):
-    """Reaction (N) of the plate with a hole on rollers stretched by 10 % (see the test)."""
-    tagged = make_mesh(MeshSpec("plate_with_hole", element_size=5.0, refinements=refinements))
-    domain = tagged.mesh
-    space = fem.VectorFunctionSpace(domain, ("Lagrange", degree))
-    u = fem.Function(space)
-    frame = flat_frame(domain)
-    material = surface_material(synthetic_surface())
-    points = QuadratureMaterial(green_lagrange(u, frame), domain, [material], quadrature_degree)
-    forms = membrane_forms(u, points, frame)
-    stretch = fem.Constant(domain, PETSc.ScalarType(0.0))
-    corner = dolfinx_mesh.locate_entities_boundary(
-        domain, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], 0.0)
-    )
-    x_space, y_space = space.sub(0), space.sub(1)
-    bcs = [
-        fem.dirichletbc(
-            PETSc.ScalarType(0.0),
-            fem.locate_dofs_topological(x_space, 1, tagged.facets("left")),
-            x_space,
-        ),
-        fem.dirichletbc(
-            stretch, fem.locate_dofs_topological(x_space, 1, tagged.facets("right")), x_space
-        ),
-        fem.dirichletbc(
-            PETSc.ScalarType(0.0), fem.locate_dofs_topological(y_space, 0, corner), y_space
-        ),
-    ]
-    reactions = {"right": boundary_indicator(space, tagged.facets("right"))}
-    stepper = LoadStepper(
-        forms.residual,
-        forms.jacobian,
-        u,
-        bcs,
-        options=SolverOptions(steps=2),
-        reactions=reactions,
-        update=points.update,
-    )
-    start = time.perf_counter()
-    path = stepper.run(lambda t: setattr(stretch, "value", 5.0 * t))
-    dofs = space.dofmap.index_map.size_global * space.dofmap.index_map_bs
-    return path.steps[-1].reactions["right"][0], time.perf_counter() - start, dofs
+    """(reaction (N), solve (s), dofs) of the plate with a hole on rollers stretched by 10 %
+    (tests/support/plate_cases.py, the mesh-convergence test's problem)."""
+    result = stretched_plate(refinements, degree, quadrature_degree)
+    return result.reaction[0], result.seconds, result.dofs
 
 
 def accuracy_section(quick):
