@@ -198,10 +198,9 @@ class MembraneForms(NamedTuple):
     jacobian: ufl.Form
 
 
-def membrane_forms(
-    u, material: QuadratureMaterial, frame: MaterialFrame, measure: ufl.Measure | None = None
-) -> MembraneForms:
-    """Internal-force residual int P : (grad v T) dA and its consistent Jacobian.
+def membrane_forms(u, material: QuadratureMaterial, frame: MaterialFrame) -> MembraneForms:
+    """Internal-force residual int P : (grad v T) dA over the whole mesh (each cell's law is
+    in `material`) and its consistent Jacobian.
 
     S and the material tangent dS/dE are the quadrature Functions of `material` (call its
     `update` at the current u before assembling either form). The Jacobian is the chain rule
@@ -215,11 +214,9 @@ def membrane_forms(
             `green_lagrange(u, frame)`); its Gauss rule is the forms'.
         frame: the material frame (`flat_frame`, `curved_frame`), with as many components
             as `u`.
-        measure: the cell measure to integrate over, e.g. `dx(region)` of a cell-tagged
-            mesh; default the whole mesh. Its metadata is replaced by the material's rule.
     """
     space = u.function_space
-    dx = material.measure(measure)
+    dx = material.measure()
     v, du = ufl.TestFunction(space), ufl.TrialFunction(space)
     T = frame.tangents
     F = deformation_gradient(u, frame)

@@ -29,21 +29,11 @@ from rve_rod.errors import InputError
 __all__ = [
     "TANGENT_COMPONENTS",
     "QuadratureMaterial",
-    "quadrature_measure",
 ]
 
 TANGENT_COMPONENTS = ((0, 0), (0, 1), (1, 0), (1, 1), (2, 2))
 """The (a, b) of the tangent dS_a/dE_b stored, with E = (E11, E22, E12) and S = (S11, S22,
 S12): every other entry of a law's tangent is 0 (the surface contract)."""
-
-
-def quadrature_measure(mesh, degree: int, measure: ufl.Measure | None = None) -> ufl.Measure:
-    """`measure` (default the cells of `mesh`) with the default Gauss rule exact to `degree`:
-    the rule of the quadrature elements of degree `degree`."""
-    metadata = {"quadrature_degree": degree, "quadrature_scheme": "default"}
-    if measure is None:
-        return ufl.dx(domain=mesh, metadata=metadata)
-    return measure.reconstruct(metadata=metadata)
 
 
 class QuadratureMaterial:
@@ -121,9 +111,11 @@ class QuadratureMaterial:
             [[t[0] * dE[0, 0] + t[1] * dE[1, 1], shear], [shear, t[2] * dE[0, 0] + t[3] * dE[1, 1]]]
         )
 
-    def measure(self, measure: ufl.Measure | None = None) -> ufl.Measure:
-        """The cell measure of forms that use S: `quadrature_measure` of this rule."""
-        return quadrature_measure(self.mesh, self.degree, measure)
+    def measure(self) -> ufl.Measure:
+        """The cells of the mesh with this Gauss rule (basix's default rule, exact to
+        `degree`): the measure of every form that reads S or the tangent."""
+        metadata = {"quadrature_degree": self.degree, "quadrature_scheme": "default"}
+        return ufl.dx(domain=self.mesh, metadata=metadata)
 
     def update(self) -> None:
         """S and the tangent of every cell with a law at the current displacement.
