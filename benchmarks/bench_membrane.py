@@ -3,8 +3,8 @@
 Sections (all by default, or pick with --section):
 
   material  response-surface material against orthotropic SVK, same mesh and load path:
-            assembly times, whole solve, and the kernels' size and cold compile time for the
-            chain-rule Jacobian used here against plain `ufl.derivative`.
+            assembly times and whole solve (the forms' cold compilation:
+            benchmarks/bench_quadrature_material.py).
   scaling   time and peak memory against DOFs, 10 x 10 ... 400 x 400 elements (each size in
             a fresh process); then 1 against 2 MPI ranks on the largest.
   accuracy  element degree (1, 2) and quadrature degree against the reaction-force error and
@@ -20,31 +20,22 @@ cheap, and every table says what it timed.
 import argparse
 import json
 import os
-import re
 import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 
 import dolfinx.fem.petsc
-import numpy as np
-import ufl
-from dolfinx import fem
-from dolfinx import mesh as dolfinx_mesh
 from mpi4py import MPI
-from petsc4py import PETSc
 
 from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
-from fabric_dolfinx.membrane.forms import flat_frame, membrane_forms
-from fabric_dolfinx.mesh.shapes import make_mesh
 from fabric_dolfinx.part.tension import TensionSetup
-from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
-from fabric_dolfinx.spec.part import MeshSpec
+from fabric_dolfinx.solve import SolverOptions
 from fabric_dolfinx.spec.tension import TensionTest
 
 # the synthetic surface is a test fixture (tests/support/surface_cases.py)
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from support.plate_cases import stretched_plate
 from support.surface_cases import synthetic_surface
 
 MPI_ENV = {
@@ -106,46 +97,6 @@ def material_section(quick):
         )
     ratios = [rows["surface"][i] / rows["SVK"][i] for i in range(3)]
     print(f"| ratio surface/SVK | {ratios[0]:.2f} | {ratios[1]:.2f} | {ratios[2]:.2f} | | |")
-    print("\nJacobian kernel, cold JIT cache in a fresh process (surface: degree, spans):")
-    print("| material | Jacobian by | values per quadrature point | C source (kB) | compile (s) |")
-    print("|---|---|---|---|---|")
-    for material in ("svk", "surface-2-8", "surface-3-13"):
-        for jacobian in ("chain-rule", "ufl.derivative"):
-            values, size, seconds = compile_in_fresh_cache(material, jacobian)
-            print(f"| {material} | {jacobian} | {values} | {size / 1000:.0f} | {seconds:.1f} |")
-
-
-def compile_in_fresh_cache(material, jacobian):
-    """(intermediate values per quadrature point, C source bytes, seconds) of compiling the
-    Jacobian form in an empty JIT cache."""
-    with tempfile.TemporaryDirectory() as cache:
-        command = [sys.executable, __file__, "--compile-one", material, jacobian]
-        env = {**MPI_ENV, "XDG_CACHE_HOME": cache}
-        output = subprocess.run(command, check=True, capture_output=True, text=True, env=env).stdout
-        seconds = float(output.split()[-1])
-        source = max(Path(cache).rglob("libffcx_forms_*.c"), key=lambda path: path.stat().st_size)
-        text = source.read_text()
-        values = max(int(n) for n in re.findall(r"double sv_\w+\[(\d+)\]", text))
-        return values, len(text), seconds
-
-
-def compile_one(material, jacobian):
-    domain = dolfinx_mesh.create_unit_square(
-        MPI.COMM_SELF, 2, 2, dolfinx_mesh.CellType.quadrilateral
-    )
-    space = fem.VectorFunctionSpace(domain, ("Lagrange", 1))
-    u = fem.Function(space)
-    if material == "svk":
-        law = svk_material(SVK).law
-    else:
-        _, degree, spans = material.split("-")
-        surface = synthetic_surface(degree=int(degree), spans=int(spans))
-        law = surface_material(surface).law
-    forms = membrane_forms(u, law, flat_frame(domain, fem.Constant(domain, 0.3)), 2)
-    form = forms.jacobian if jacobian == "chain-rule" else ufl.derivative(forms.residual, u)
-    start = time.perf_counter()
-    fem.form(form)
-    print(f"compile {time.perf_counter() - start:.3f}")
 
 
 def peak_memory_mb():
@@ -214,40 +165,10 @@ def scaling_section(quick):
 
 
 def hole_reaction(degree, quadrature_degree, refinements):
-    """Reaction (N) of the plate with a hole on rollers stretched by 10 % (see the test)."""
-    tagged = make_mesh(MeshSpec("plate_with_hole", element_size=5.0, refinements=refinements))
-    domain = tagged.mesh
-    space = fem.VectorFunctionSpace(domain, ("Lagrange", degree))
-    u = fem.Function(space)
-    forms = membrane_forms(
-        u, surface_material(synthetic_surface()).law, flat_frame(domain), quadrature_degree
-    )
-    stretch = fem.Constant(domain, PETSc.ScalarType(0.0))
-    corner = dolfinx_mesh.locate_entities_boundary(
-        domain, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], 0.0)
-    )
-    x_space, y_space = space.sub(0), space.sub(1)
-    bcs = [
-        fem.dirichletbc(
-            PETSc.ScalarType(0.0),
-            fem.locate_dofs_topological(x_space, 1, tagged.facets("left")),
-            x_space,
-        ),
-        fem.dirichletbc(
-            stretch, fem.locate_dofs_topological(x_space, 1, tagged.facets("right")), x_space
-        ),
-        fem.dirichletbc(
-            PETSc.ScalarType(0.0), fem.locate_dofs_topological(y_space, 0, corner), y_space
-        ),
-    ]
-    reactions = {"right": boundary_indicator(space, tagged.facets("right"))}
-    stepper = LoadStepper(
-        forms.residual, forms.jacobian, u, bcs, options=SolverOptions(steps=2), reactions=reactions
-    )
-    start = time.perf_counter()
-    path = stepper.run(lambda t: setattr(stretch, "value", 5.0 * t))
-    dofs = space.dofmap.index_map.size_global * space.dofmap.index_map_bs
-    return path.steps[-1].reactions["right"][0], time.perf_counter() - start, dofs
+    """(reaction (N), solve (s), dofs) of the plate with a hole on rollers stretched by 10 %
+    (tests/support/plate_cases.py, the mesh-convergence test's problem)."""
+    result = stretched_plate(refinements, degree, quadrature_degree)
+    return result.reaction[0], result.seconds, result.dofs
 
 
 def accuracy_section(quick):
@@ -278,13 +199,9 @@ def main():
     parser.add_argument("--section", choices=["material", "scaling", "accuracy"])
     parser.add_argument("--quick", action="store_true", help="smaller sizes")
     parser.add_argument("--one-size", nargs=3, help=argparse.SUPPRESS)
-    parser.add_argument("--compile-one", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.one_size:
         one_size(int(args.one_size[0]), int(args.one_size[1]), args.one_size[2])
-        return
-    if args.compile_one:
-        compile_one(*args.compile_one)
         return
     print(f"# bench_membrane ({'quick' if args.quick else 'full'}), load: {os.getloadavg()}")
     sections = {"material": material_section, "scaling": scaling_section}

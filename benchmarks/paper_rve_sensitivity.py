@@ -6,8 +6,10 @@ and 6.5 (`rve_rod.rve.paper_comparison`): along their 12 biaxial rays at every c
 of theirs (rays within the 20 % target; the median over the rays of each ray's worst error;
 the mean error at the first state, which measures the stiffness at rest), their picture-frame
 shear (the error at their state 6, 20 degrees, and 12, 40 degrees), and the uniaxial forces and
-Poisson ratios at 20 % against their readings. The last rows combine ingredients. The table
-goes into docs/validation.md ("The paper group's RVE").
+Poisson ratios at 20 % against their readings. The last rows combine ingredients; the rows
+"prestrain" and "natural length" are the taut-loop experiment (a yarn shorter than its loop,
+`YarnSettings.prestrain`; docs/validation.md, "The taut loop"). The table goes into
+docs/validation.md ("The paper group's RVE").
 
     .venv/bin/python benchmarks/paper_rve_sensitivity.py [--control-points 28]
         [--stitches 4.5,5.5,6.5] [--only NAME ...]
@@ -63,6 +65,7 @@ VARIANTS = (
     Variant("free fibres (the default)", FIBRES),
     Variant("free fibres, frictionless", {**FIBRES, "friction": False}),
     Variant("free fibres, contact stiffness x3", {**FIBRES, "contact_stiffness_factor": 0.03}),
+    Variant("free fibres, contact stiffness x10", {**FIBRES, "contact_stiffness_factor": 0.1}),
     Variant("free fibres, contact exponent p = 1", FIBRES, with_exponent(1.0)),
     Variant("free fibres, contact at r0 (squeezed rest)", {**FIBRES, "contact_radius": "measured"}),
     Variant("free fibres, parabolic loop", FIBRES, profile="parabolic"),
@@ -73,6 +76,21 @@ VARIANTS = (
     Variant(
         "section I = pi r^4/12, contact x3",
         {**SECTION, "second_moment": "paper", "contact_stiffness_factor": 0.03},
+    ),
+    *(
+        Variant(f"free fibres, prestrain eps0 = {100 * eps0:g} %", {**FIBRES, "prestrain": eps0})
+        for eps0 in (0.005, 0.01, 0.02, 0.03, 0.04, 0.06, 0.08)
+    ),
+    *(
+        Variant(
+            f"free fibres, natural length l / (1 + eps0), eps0 = {100 * eps0:g} %",
+            {**FIBRES, "prestrain": eps0, "natural_length": "measured"},
+        )
+        for eps0 in (0.0, 0.02, 0.03, 0.04)
+    ),
+    Variant(
+        "free fibres, contact at r0 and prestrain eps0 = 2 %",
+        {**FIBRES, "contact_radius": "measured", "prestrain": 0.02},
     ),
 )
 

@@ -221,10 +221,13 @@ class LoadStepper:
     """Newton's method with load stepping for one residual/Jacobian pair.
 
     Owns the compiled forms and the PETSc matrix, vectors and KSP, so several load paths on
-    the same forms (reset `u` in between) compile and allocate once.
+    the same forms (reset `u` in between) compile and allocate once. `update`, when given,
+    is called at every new `u` before the residual is assembled (the Jacobian is assembled
+    at the `u` of the last residual): it brings the Functions the forms read to `u` (the
+    material at the quadrature points, `QuadratureMaterial.update`).
     """
 
-    def __init__(
+    def __init__(  # noqa: PLR0913 (the forms, the unknown, the conditions and 3 options)
         self,
         residual: ufl.Form,
         jacobian: ufl.Form,
@@ -233,8 +236,10 @@ class LoadStepper:
         *,
         options: SolverOptions = SolverOptions(),
         reactions: Mapping[str, BoundaryIndicator] | None = None,
+        update: Callable[[], None] | None = None,
     ):
         self.options = options
+        self._update = update or (lambda: None)
         self.u = u
         self.bcs = list(bcs)
         self.reactions = dict(reactions or {})
@@ -247,6 +252,7 @@ class LoadStepper:
 
     def _assemble_residual(self) -> float:
         """Residual with the Dirichlet conditions (rows hold u - g); returns its 2-norm (N)."""
+        self._update()
         b = self._vector
         with b.localForm() as local:
             local.set(0.0)
@@ -311,6 +317,7 @@ class LoadStepper:
         """Boundary name -> (Fx, Fy) N, or (Fx, Fy, Fz) for a membrane in space: the residual
         without Dirichlet rows, acting on the boundary's indicator functions (equal on all
         ranks)."""
+        self._update()
         b = dolfinx.fem.petsc.assemble_vector(self._residual_form)
         b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
         forces = {

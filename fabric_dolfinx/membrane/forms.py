@@ -13,14 +13,15 @@ gradient in the course/wale frame is
 
 whose columns g_a = F e_a are the deformed material lines. E = (F^T F - I) / 2 (2 x 2,
 material frame, tensor shear E12), S = law(E) (N/mm, force per undeformed width: the law
-already is a membrane law, `fabric_dolfinx.material`), P = F S and the weak form
+already is a membrane law, `fabric_dolfinx.material`; the forms see S and its tangent at the
+quadrature points, `fabric_dolfinx.membrane.quadrature`), P = F S and the weak form
 
     R(u; v) = int P : (grad v T) dA = 0.
 
 On a flat frame with 2 components this is the plane membrane (F T = (I + grad u) R, so the
 law sees R^T E R); with 3 components in-plane states equal it to round-off. The consistent
-tangent is the Gateaux derivative of R, assembled by the chain rule (see `membrane_forms`
-for why it is split). Loads in space (pressure, indenters) are in `fabric_dolfinx.membrane.loads`.
+tangent is the Gateaux derivative of R, assembled by the chain rule (`membrane_forms`).
+Loads in space (pressure, indenters) are in `fabric_dolfinx.membrane.loads`.
 """
 
 from collections.abc import Callable
@@ -28,17 +29,17 @@ from typing import NamedTuple
 
 import ufl
 
-from fabric_dolfinx.material import StressLaw
+from fabric_dolfinx.membrane.quadrature import QuadratureMaterial
 from rve_rod.errors import InputError, check_integer
 
 __all__ = [
     "MaterialFrame",
     "MembraneForms",
     "MembraneState",
-    "cell_measure",
     "curved_frame",
     "deformation_gradient",
     "flat_frame",
+    "green_lagrange",
     "material_frame",
     "membrane_forms",
     "membrane_state",
@@ -150,6 +151,13 @@ def _area_ratio(F: ufl.core.expr.Expr) -> tuple[ufl.core.expr.Expr, ufl.core.exp
     return J, area / J
 
 
+def green_lagrange(u, frame: MaterialFrame) -> ufl.core.expr.Expr:
+    """E = (F^T F - I) / 2 (2, 2), the Green-Lagrange strain in the material frame (tensor
+    shear E12): what the material law sees (`fabric_dolfinx.membrane.quadrature`)."""
+    F = deformation_gradient(u, frame)
+    return 0.5 * (F.T * F - ufl.Identity(2))
+
+
 class MembraneState(NamedTuple):
     """UFL expressions of the membrane state at the displacement u.
 
@@ -173,14 +181,14 @@ class MembraneState(NamedTuple):
     normal: ufl.core.expr.Expr | None
 
 
-def membrane_state(u, law: StressLaw, frame: MaterialFrame) -> MembraneState:
-    """The membrane state for the displacement `u`, the material `law` and the `frame`."""
+def membrane_state(u, stress: ufl.core.expr.Expr, frame: MaterialFrame) -> MembraneState:
+    """The membrane state for the displacement `u`, the stress S (2, 2) in the material frame
+    (`QuadratureMaterial.stress`: valid at its quadrature points) and the `frame`."""
     F = deformation_gradient(u, frame)
-    E = 0.5 * (F.T * F - ufl.Identity(2))
-    S = law(E)
+    E = green_lagrange(u, frame)
     J, normal = _area_ratio(F)
     T = frame.tangents
-    return MembraneState(F, E, T * E * T.T, S, J, F * S * F.T / J, normal)
+    return MembraneState(F, E, T * E * T.T, stress, J, F * stress * F.T / J, normal)
 
 
 class MembraneForms(NamedTuple):
@@ -190,57 +198,31 @@ class MembraneForms(NamedTuple):
     jacobian: ufl.Form
 
 
-def cell_measure(space, quadrature_degree: int | None = None, measure=None):
-    """The cell measure of the membrane forms: `measure` (e.g. `dx(region)` of a cell-tagged
-    mesh; default the whole mesh of `space`) with a Gauss rule exact to `quadrature_degree`
-    (default twice the element degree: 2 x 2 points for Q1, 3 x 3 for Q2)."""
-    if quadrature_degree is None:
-        quadrature_degree = 2 * space.ufl_element().degree()
-    metadata = {"quadrature_degree": quadrature_degree}
-    if measure is None:
-        return ufl.dx(domain=space.mesh, metadata=metadata)
-    return measure.reconstruct(metadata=metadata)
+def membrane_forms(u, material: QuadratureMaterial, frame: MaterialFrame) -> MembraneForms:
+    """Internal-force residual int P : (grad v T) dA over the whole mesh (each cell's law is
+    in `material`) and its consistent Jacobian.
 
-
-def membrane_forms(
-    u,
-    law: StressLaw,
-    frame: MaterialFrame,
-    quadrature_degree: int | None = None,
-    measure: ufl.Measure | None = None,
-) -> MembraneForms:
-    """Internal-force residual int P : (grad v T) dA and its consistent Jacobian.
-
-    The Jacobian equals `ufl.derivative(residual, u)` (a test checks it to round-off) but is
-    assembled by the chain rule dP = (grad du T) S + F (dS/dE : dE), with the material
-    tangent dS/dE from `ufl.diff`. Differentiating the whole residual with `ufl.derivative`
-    pushes the argument into every polynomial piece of the response-surface splines, and
-    FFCx then factorizes each piece against each argument component: for a 16 x 16 cubic
-    surface that kernel holds 9600 intermediate values per quadrature point and takes 30 s
-    to compile, against 3700 and 10 s here (docs/benchmarks.md).
+    S and the material tangent dS/dE are the quadrature Functions of `material` (call its
+    `update` at the current u before assembling either form). The Jacobian is the chain rule
+    dP = (grad du T) S + F (dS/dE : dE) with dE = ((grad du T)^T F + F^T (grad du T)) / 2:
+    the Gateaux derivative of the residual, as `ufl.derivative` would give it with the law
+    inside the form (a test checks it against finite differences and quadratic Newton
+    convergence).
 
     Args:
+        material: S and dS/dE at the quadrature points (`QuadratureMaterial` of the strain
+            `green_lagrange(u, frame)`); its Gauss rule is the forms'.
         frame: the material frame (`flat_frame`, `curved_frame`), with as many components
             as `u`.
-        quadrature_degree: Gauss rule per direction exact to this degree; default twice the
-            element degree (2 x 2 points for Q1, 3 x 3 for Q2).
-        measure: the cell measure to integrate over, e.g. `dx(region)` of a cell-tagged
-            mesh (several regions, one law each: sum their forms); default the whole mesh.
-            Its metadata is replaced by the quadrature degree.
     """
     space = u.function_space
-    dx = cell_measure(space, quadrature_degree, measure)
+    dx = material.measure()
     v, du = ufl.TestFunction(space), ufl.TrialFunction(space)
     T = frame.tangents
     F = deformation_gradient(u, frame)
-    strain_value = 0.5 * (F.T * F - ufl.Identity(2))
-    strain = ufl.variable(strain_value)
-    S = law(strain)
+    S = material.stress
     residual = ufl.inner(F * S, ufl.grad(v) * T) * dx
-    tangent = ufl.diff(S, strain)
-    strain_increment = ufl.derivative(strain_value, u, du)
-    i, j, k, m = ufl.indices(4)
-    stress_increment = ufl.as_tensor(tangent[i, j, k, m] * strain_increment[k, m], (i, j))
-    increment = ufl.grad(du) * T * S + F * stress_increment
+    strain_increment = ufl.derivative(green_lagrange(u, frame), u, du)
+    increment = ufl.grad(du) * T * S + F * material.stress_increment(strain_increment)
     jacobian = ufl.inner(increment, ufl.grad(v) * T) * dx
     return MembraneForms(residual, jacobian)

@@ -11,6 +11,7 @@ stiffness; the dome amplitude is reported.
 """
 
 import logging
+from collections.abc import Callable
 
 import dolfinx.fem.petsc
 import numpy as np
@@ -34,13 +35,18 @@ class Dome:
         u: the displacement (3 components on a flat mesh).
         residual: the part's residual form R(u; v).
         facets: the local boundary facets where z is held (phi = 0 there).
+        update: brings the Functions the residual reads to the current u (the material at
+            the quadrature points), called before each evaluation of the residual.
 
     Attributes:
         amplitude: the last dome height (mm), 0 until one was needed.
     """
 
-    def __init__(self, u: fem.Function, residual: ufl.Form, facets: np.ndarray):
+    def __init__(
+        self, u: fem.Function, residual: ufl.Form, facets: np.ndarray, update: Callable[[], None]
+    ):
         self.u = u
+        self._update = update
         space = u.function_space
         mesh = space.mesh
         self._comm = mesh.comm
@@ -79,6 +85,7 @@ class Dome:
 
     def _projected_residual(self, amplitude: float) -> float:
         self.u.x.array[:] = amplitude * self.shape.x.array
+        self._update()
         return self._comm.allreduce(fem.assemble_scalar(self._projected), op=MPI.SUM)
 
     def _amplitude(self) -> float:

@@ -110,16 +110,15 @@ class PartFields:
             scalars, cells, [r.angle for r in problem.regions], "course_direction"
         )
         self._normal = fem.Function(fem.VectorFunctionSpace(mesh, ("DG", 0), dim=3))
-        points = plane.element.interpolation_points()
-        self._regions = []
-        for number, material in enumerate(problem.materials):
-            state = membrane_state(u, material.law, problem.frame)
-            strain = state.reference_strain if components == 2 else state.strain
-            pairs = [(self.strain, strain), (self.cauchy, state.cauchy)]
-            if components == 3:
-                pairs += [(self.stress, state.second_piola_kirchhoff), (self._normal, state.normal)]
-            expressions = [(f, fem.Expression(e, points)) for f, e in pairs]
-            self._regions.append((cells.cells(number), expressions))
+        # the material at each cell's centre: the one point of the degree-1 Gauss rule
+        self._centre = problem.material_at(1)
+        state = membrane_state(u, self._centre.stress, problem.frame)
+        strain = state.reference_strain if components == 2 else state.strain
+        pairs = [(self.strain, strain), (self.cauchy, state.cauchy)]
+        if components == 3:
+            pairs += [(self.stress, state.second_piola_kirchhoff), (self._normal, state.normal)]
+        self._expressions = [(f, fem.Expression(e, self._centre.points)) for f, e in pairs]
+        self._cells = np.flatnonzero(cells.index >= 0).astype(np.int32)  # the cells with a law
         self.cell_dofs = plane.dofmap.list.array.reshape(cells.index.size, -1)[:, 0]
         self._comm = mesh.comm
         self._owned = mesh.topology.index_map(mesh.topology.dim).size_local
@@ -135,14 +134,12 @@ class PartFields:
 
     def update(self) -> None:
         """Evaluate the fields at the current displacement."""
-        for cells, expressions in self._regions:
-            if cells.size == 0:
-                continue
-            dofs = self.cell_dofs[cells]
-            for function, expression in expressions:
-                size = function.function_space.dofmap.index_map_bs
-                values = function.x.array.reshape(-1, size)
-                values[dofs] = expression.eval(cells).reshape(cells.size, size)
+        self._centre.update()
+        cells = self._cells
+        for function, expression in self._expressions:
+            size = function.function_space.dofmap.index_map_bs
+            values = function.x.array.reshape(-1, size)
+            values[self.cell_dofs[cells]] = expression.eval(cells).reshape(cells.size, size)
         n = self.components
         cauchy = self.cauchy.x.array.reshape(-1, n, n)
         if n == 2:

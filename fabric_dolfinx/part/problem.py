@@ -3,8 +3,9 @@ what is recorded along it. One problem for every kind of part, plane or in space
 
 `PartProblem` puts together a tagged mesh (`fabric_dolfinx.mesh.shapes`, or a curved surface in
 space), its regions (one material and course direction each, `fabric_dolfinx.part.regions`) and its
-boundary conditions (`fabric_dolfinx.part.boundary`, 2 or 3 components): the residual is the sum
-of the membrane forms of the regions (`membrane.forms.membrane_forms`) minus the tractions and, for
+boundary conditions (`fabric_dolfinx.part.boundary`, 2 or 3 components): the residual is the
+membrane forms (`membrane.forms.membrane_forms`, every cell's region law evaluated at the
+quadrature points, `membrane.quadrature`) minus the tractions and, for
 a part in space (`SpaceSpec`), minus the follower pressure, the indenter's contact and the
 normal stabilization. The shared `LoadStepper` solves it (load factor t from 0 to 1).
 `PartProblem.run` follows the path and records, at t = 0 and after every converged step,
@@ -42,7 +43,7 @@ from petsc4py import PETSc
 
 from fabric_dolfinx.graded import graded_material
 from fabric_dolfinx.material import Material
-from fabric_dolfinx.membrane.forms import material_frame, membrane_forms, membrane_state
+from fabric_dolfinx.membrane.forms import green_lagrange, material_frame, membrane_forms
 from fabric_dolfinx.membrane.loads import (
     Indenter,
     PlaneIndenter,
@@ -52,6 +53,7 @@ from fabric_dolfinx.membrane.loads import (
     contact_residual,
     pressure_residual,
 )
+from fabric_dolfinx.membrane.quadrature import QuadratureMaterial
 from fabric_dolfinx.mesh.surfaces import axis_fields
 from fabric_dolfinx.mesh.tagged import TaggedMesh
 from fabric_dolfinx.part.boundary import BoundaryLoads, LoadConstants
@@ -217,7 +219,9 @@ class PartProblem:
     Attributes:
         u: the displacement (mm); components: 2 or 3; frame: the material frame; cells: the
         RegionCells; loads: the BoundaryLoads; constants: the LoadConstants; angle: DG0
-        course direction (radians); stitch: DG0 stitch value; stepper: the LoadStepper.
+        course direction (radians); stitch: DG0 stitch value; materials: the regions'
+        Materials; material: their S and dS/dE at the quadrature points (updated before
+        every assembly); stepper: the LoadStepper.
     """
 
     def __init__(  # noqa: PLR0913 (a part's inputs: mesh, regions, conditions and 5 options)
@@ -274,13 +278,8 @@ class PartProblem:
             subdomain_data=self.cells.tags,
             metadata={"quadrature_degree": self.quadrature_degree},
         )
-        residual = jacobian = None
-        for number, material in enumerate(self.materials):
-            forms = membrane_forms(
-                self.u, material.law, self.frame, self.quadrature_degree, dx(number)
-            )
-            residual = forms.residual if residual is None else residual + forms.residual
-            jacobian = forms.jacobian if jacobian is None else jacobian + forms.jacobian
+        self.material = self.material_at(self.quadrature_degree)
+        residual, jacobian = membrane_forms(self.u, self.material, self.frame)
         if self.loads.external is not None:
             residual = residual - self.loads.external
         self.indenter = self.indenter_state = None
@@ -298,14 +297,20 @@ class PartProblem:
             if c.dirichlet
         }
         self.stepper = LoadStepper(
-            residual, jacobian, self.u, self.loads.bcs, options=self.options, reactions=reactions
+            residual,
+            jacobian,
+            self.u,
+            self.loads.bcs,
+            options=self.options,
+            reactions=reactions,
+            update=self.material.update,
         )
         self._displacement_forms = self.loads.displacement_forms(self.u)
         self.dofs = function_space.dofmap.index_map.size_global * function_space.dofmap.index_map_bs
         self.probes = CellProbe(self, probes) if probes else None
         self.dome = None
         if space is not None and self.flat and (space.pressure != 0.0 or space.indenter):
-            self.dome = Dome(self.u, residual, self._facets_holding_z())
+            self.dome = Dome(self.u, residual, self._facets_holding_z(), self.material.update)
 
     def _material(self, number: int) -> Material:
         """The region's material; a graded region's from its family and the stitch field,
@@ -313,9 +318,7 @@ class PartProblem:
         region = self.regions[number]
         if region.family is None:
             return region.material
-        values = self.stitch.x.array[self.stitch.function_space.dofmap.list.array][
-            self.cells.cells(number)
-        ]
+        values = self._cell_stitch()[self.cells.cells(number)]
         comm = self.tagged.mesh.comm
         low = comm.allreduce(values.min() if values.size else np.inf, op=MPI.MIN)
         high = comm.allreduce(values.max() if values.size else -np.inf, op=MPI.MAX)
@@ -326,7 +329,23 @@ class PartProblem:
                 f"region {region.name!r}: stitch values {low:.4g} ... {high:.4g} mm leave the "
                 f"family's range [{min(members):g}, {max(members):g}] mm"
             )
-        return graded_material(region.family, self.stitch)
+        return graded_material(region.family)
+
+    def _cell_stitch(self) -> np.ndarray:
+        """(local cells incl. ghosts,) the stitch value of each cell (mm)."""
+        return self.stitch.x.array[self.stitch.function_space.dofmap.list.array]
+
+    def material_at(self, degree: int) -> QuadratureMaterial:
+        """The regions' laws at the points of the Gauss rule exact to `degree` (each cell its
+        region's law at its stitch value): S and dS/dE as quadrature Functions of u."""
+        return QuadratureMaterial(
+            green_lagrange(self.u, self.frame),
+            self.tagged.mesh,
+            self.materials,
+            degree,
+            self.cells.index,
+            self._cell_stitch(),
+        )
 
     def _space_loads(self, space: SpaceSpec, dx: ufl.Measure):
         """The follower loads of a part in space (pressure, contact, stabilization) as one
@@ -436,7 +455,7 @@ class PartProblem:
     def _range_checks(self) -> dict[str, StrainRangeCheck]:
         return {
             region.name: StrainRangeCheck(
-                membrane_state(self.u, self.materials[number].law, self.frame).strain,
+                green_lagrange(self.u, self.frame),
                 self.tagged.mesh,
                 self.materials[number].domain,
                 self.quadrature_degree,

@@ -7,20 +7,20 @@ wale width w and course height c (mm). At a stitch value s its law is the graded
 
     S(E; s) = sum_k N_k(s) S_k(E),
 
-with N_k the hat functions on the members' stitch values (`stitch_weights`; constant beyond
-the ends), and its loop geometry is interpolated with the same weights,
-w(s) = sum_k N_k(s) w_k, c(s) = sum_k N_k(s) c_k. `graded.hat_weights` writes the same
-weights in UFL for the membrane; a test holds the two equal. No DOLFINx here: the design's
-cheap models (the material's uniaxial curves, the sleeve's Laplace law) evaluate the family
-with NumPy, in microseconds per strain.
+with N_k the hat functions on the members' stitch values (`graded.stitch_weights`; constant
+beyond the ends), and its loop geometry is interpolated with the same weights,
+w(s) = sum_k N_k(s) w_k, c(s) = sum_k N_k(s) c_k. The weights and the weighted sum are those
+the membrane evaluates at its quadrature points (`fabric_dolfinx.graded`, NumPy only). No
+DOLFINx here: the design's cheap models (the material's uniaxial curves, the sleeve's Laplace
+law) evaluate the family with NumPy, in microseconds per strain.
 """
 
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from fabric_dolfinx.graded import graded_stress, stitch_weights
 from rve_rod.errors import InputError
 from rve_rod.surface import ResponseSurface, StressResult, homogeneous_response, read_surface
 
@@ -28,20 +28,7 @@ __all__ = [
     "FamilyLaw",
     "FamilyMember",
     "SurfaceFamily",
-    "stitch_weights",
 ]
-
-
-def stitch_weights(stitch_values: Sequence[float], stitch: float) -> np.ndarray:
-    """(n,) weights N_k(stitch) of the piecewise-linear interpolation on `stitch_values`
-    (increasing, mm): N_k(s_k) = 1, linear between neighbours, constant beyond the ends
-    (the NumPy twin of `fabric_dolfinx.graded.hat_weights`)."""
-    values = np.asarray(stitch_values, dtype=float)
-    if values.size < 1 or np.any(np.diff(values) <= 0.0):
-        raise InputError(f"stitch values {values.tolist()} must be increasing")
-    if values.size == 1:
-        return np.ones(1)
-    return np.array([np.interp(stitch, values, row) for row in np.eye(values.size)])
 
 
 @dataclass(frozen=True)
@@ -75,15 +62,7 @@ class FamilyLaw:
     def stress(self, E: np.ndarray) -> StressResult:
         """S (m, 3), dS/dE (m, 3, 3) and `outside` (m,) at strains E (m, 3) or (3,): the
         weighted sum over the members that act (outside where any of them is)."""
-        results = [
-            (weight, surface.stress(E))
-            for weight, surface in zip(self.weights, self.surfaces, strict=True)
-            if weight != 0.0
-        ]
-        S = sum(weight * result.S for weight, result in results)
-        tangent = sum(weight * result.tangent for weight, result in results)
-        outside = np.logical_or.reduce([result.outside for _, result in results])
-        return StressResult(S=S, tangent=tangent, outside=outside)
+        return graded_stress([surface.stress for surface in self.surfaces], self.weights, E)
 
 
 @dataclass(frozen=True)

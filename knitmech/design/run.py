@@ -319,7 +319,7 @@ def contact_job(
     family: SurfaceFamily, design: DesignSpec, bands: list[dict], element_size: float
 ) -> SleeveJob:
     """The contact model of the designed sleeve (`bands`: its instructions), with the
-    members its stitch values need (the fewer, the faster FFCx compiles the law)."""
+    members its stitch values need (the fewer surfaces to read and evaluate)."""
     stitches = [row["stitch"] for row in bands]
     values = family.stitch_values
     first = max(i for i, v in enumerate(values) if v <= min(stitches) + 1e-9)
@@ -415,8 +415,8 @@ def _variables(design: DesignSpec, family_range: tuple[float, float]) -> list[Va
 def designed_scene(design: DesignSpec, scene: Scene, x: np.ndarray) -> Scene:
     """The scene with the designed regions' stitch values at `x`, without meso runs (only
     its part is needed). Each designed region is graded over the members its values need
-    (`knitmech.scene.fabric`): the fewer, the faster FFCx compiles its law, once per
-    combination of member intervals the search visits."""
+    (`knitmech.scene.fabric`): the fewer surfaces to read and evaluate (the forms are the
+    same for every combination of members: the law is evaluated at the quadrature points)."""
     data = copy.deepcopy(design.scene_data)
     if "region" not in data:
         data["region"] = [{"name": region.name} for region in scene.part.regions]

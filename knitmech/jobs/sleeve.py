@@ -149,8 +149,8 @@ def band_rings(
     """Per band centre z_k on the limb (mm), the deformed-area averages over the cells whose
     deformed centre lies within `half_width` of it (module docstring). Collective."""
     mesh = problem.tagged.mesh
-    law = problem.materials[0].law
-    state = membrane_state(problem.u, law, problem.frame)
+    problem.material.update()
+    state = membrane_state(problem.u, problem.material.stress, problem.frame)
     pressure, _ = contact_pressure(
         problem.u, problem.indenter, problem.indenter_state, problem.frame
     )
@@ -159,7 +159,7 @@ def band_rings(
     position = problem.frame.position + problem.u
     cells = fem.FunctionSpace(mesh, ("DG", 0))
     cell = ufl.TestFunction(cells)
-    dx = ufl.dx(domain=mesh, metadata={"quadrature_degree": problem.quadrature_degree})
+    dx = problem.material.measure()
     measures = {
         "area": J,
         "contact": pressure,

@@ -52,6 +52,9 @@ logger = logging.getLogger(__name__)
 _CURVATURE_ROWS = slice(6, 12)
 """Rows of the reference data holding the reference curvature k0 and its rate k0_u."""
 
+_STRETCH_ROWS = slice(0, 6)
+"""Rows of the reference data holding the reference stretch-shear g0 and its rate g0_u."""
+
 _QUADRATURE_POINTS_PER_SPAN = 8
 """Gauss points per knot span for tributary lengths (the integrand N_i |r0'| is smooth)."""
 
@@ -261,6 +264,7 @@ class RodModel:
             np.concatenate([self._reference_data(k) for k in range(len(self.patches))], axis=1)
         )
         self._curvature = self._reference[_CURVATURE_ROWS].copy()
+        self._stretch = self._reference[_STRETCH_ROWS].copy()
         self._stiffness = np.ascontiguousarray(
             np.concatenate(
                 [
@@ -338,6 +342,17 @@ class RodModel:
         cell of a stitch pattern, `rve_rod.rve.relax`). Lengths and shear stay the
         reference's."""
         self._reference[_CURVATURE_ROWS] = scale * self._curvature
+
+    def set_prestrain(self, prestrain: float) -> None:
+        """Make the rods' natural (stress-free) length 1 / (1 + eps0) times the reference
+        configuration's, eps0 = `prestrain` (-): the reference shape is a yarn stretched by
+        eps0 (a yarn knitted under tension), and at the reference length its axial force is
+        N = EA eps0 / (1 + eps0) (the strain Gamma = (gamma - g0) / J is per reference arc
+        length, `rve_rod.rod.strains`, and g0 becomes g0 / (1 + eps0)). 0: as built.
+        Curvature and twist stay as set (`set_natural_curvature`)."""
+        if not prestrain > -1.0:
+            raise InputError(f"prestrain={prestrain} must exceed -1 (a positive natural length)")
+        self._reference[_STRETCH_ROWS] = self._stretch / (1.0 + prestrain)
 
     # -------------------------------------------------------------------- post-processing --
 

@@ -37,7 +37,12 @@ construction puts them 2r apart. When the contact law acts at a larger radius (t
 r0, `YarnSettings.contact_radius = "measured"`), those contacts are squeezed at rest:
 `LoopCell.rest_state` grows the squeeze from touching to its full size at F = I (the fabric
 at its measured w and c), and the stress of that state, P0, is the cell's `rest_stress`: the
-stresses the cell reports are changes from it, and the free components balance to it.
+stresses the cell reports are changes from it, and the free components balance to it. A yarn
+with a prestrain eps0 (`YarnSettings.prestrain`: its natural length 1 / (1 + eps0) times the
+loop's, or the measured loop length's with `YarnSettings.natural_length = "measured"`:
+`LoopCell.prestrain`) makes a taut rest state the same way: the prestrain is grown from 0 at
+F = I (with the squeeze, if any), the yarn pulls its loop tight against its contacts, and P0
+is the stress that holds the cell at its measured w and c.
 """
 
 import dataclasses
@@ -194,7 +199,11 @@ class LoopCell:
         model: the RodModel; coupling: the ContactCoupling; macro: the MacroDeformation.
         ties: the YarnTies of the second and further patches (none for one patch).
         rest_stress: (2, 2) P0 of the rest state (N/mm), zeros unless the contacts are
-            squeezed at rest (`rest_state`); `evaluate_state` reports P - P0.
+            squeezed or the yarn prestrained at rest (`rest_state`); `evaluate_state`
+            reports P - P0.
+        prestrain: the rods' prestrain (-): the yarn's eps0, or with natural_length
+            "measured" (1 + eps0) L / l - 1 (L the template's yarn length per loop, l the
+            knit's measured loop length).
     """
 
     def __init__(
@@ -272,6 +281,18 @@ class LoopCell:
             extra_unknowns=free + SUPPORT_UNKNOWNS,
             extra_state_scale=np.r_[np.full(free, 0.1), np.ones(SUPPORT_UNKNOWNS)],
         )
+        self.prestrain = yarn.prestrain
+        if yarn.natural_length == "measured":
+            if knit.measured_loop_length is None:
+                raise InputError(
+                    "natural_length='measured' needs the knit's measured loop length; this "
+                    "knit has none: give natural_length='template'"
+                )
+            loops = sum(len(yarn_curves) for yarn_curves in curves.yarns) / QUARTERS
+            template = sum(curve.arc_length() for curve in self.curves) / loops
+            self.prestrain = (1.0 + yarn.prestrain) * template / knit.measured_loop_length - 1.0
+        if self.prestrain:
+            self.model.set_prestrain(self.prestrain)
 
     def _offset(self, state: np.ndarray, load_factor: float) -> Offset:
         """x(START) - x(END) = -F a1 and its derivative w.r.t. the free components."""
@@ -307,13 +328,14 @@ class LoopCell:
     def rest_state(self, newton: NewtonOptions, stepping: SteppingOptions) -> np.ndarray:
         """The state the load path starts from (module docstring, "Rest state").
 
-        The reference configuration when the contact law acts at the loop's radius; else the
-        squeezed rest state, grown frictionless at F = I in steps of the contact radius from
-        r to the law's, with cutback (sets `rest_stress`, and makes the rest state's contacts
-        the friction anchors). Raises ConvergenceError if the squeeze cannot be grown.
+        The reference configuration when the contact law acts at the loop's radius and the
+        yarn has no prestrain; else the squeezed or taut rest state, grown frictionless at
+        F = I in steps of the contact radius from r to the law's and of the prestrain from 0
+        to eps0 together, with cutback (sets `rest_stress`, and makes the rest state's
+        contacts the friction anchors). Raises ConvergenceError if it cannot be grown.
         """
-        law, radius = self.yarn.law, self.yarn.radius
-        if law.yarn_radius <= radius:
+        law, radius, prestrain = self.yarn.law, self.yarn.radius, self.prestrain
+        if law.yarn_radius <= radius and not prestrain:
             return self.reference_state()
         rest = LoopCell(
             self._curves,
@@ -327,6 +349,7 @@ class LoopCell:
         def grow(fraction):
             grown = radius + fraction * (law.yarn_radius - radius)
             rest.coupling.use_law(dataclasses.replace(law, yarn_radius=grown))
+            rest.model.set_prestrain(fraction * prestrain)
 
         def evaluate(state, fraction):
             grow(fraction)
@@ -347,9 +370,11 @@ class LoopCell:
         except ConvergenceError as error:
             raise ConvergenceError(
                 f"the rest state with contacts squeezed by 2 (r0 - r) = "
-                f"{2 * (law.yarn_radius - radius):.4g} mm was not found: {error}"
+                f"{2 * (law.yarn_radius - radius):.4g} mm and the yarn prestrained by "
+                f"{prestrain:g} was not found: {error}"
             ) from error
         squeezed = path.steps[-1].state
+        evaluate(squeezed, 1.0)  # the full squeeze and prestrain for the rest stress
         state = self.reference_state()
         points = self.model.layout.extra_offset
         state[:points] = squeezed[:points]

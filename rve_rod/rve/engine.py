@@ -15,7 +15,7 @@ from rve_rod.presets import Fabric
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase, Shear, UniaxialCourse, UniaxialWale
 from rve_rod.rve.simulation import RveSettings, simulate
-from rve_rod.rve.yarn import YarnSettings, bending_model, check_bending
+from rve_rod.rve.yarn import OPTIONS_OFF, YarnSettings, bending_model, check_bending
 
 __all__ = [
     "RodRve",
@@ -51,10 +51,15 @@ class RodRve:
         """The engine and its settings as `engine_identity` gives them, without the linear
         solver's (`rve_rod.newton.LINEAR_SOLVER_OPTIONS`): those change the cost of a run, not
         its results beyond round-off, so cached runs and surfaces stay valid when they are
-        tuned."""
+        tuned; and without the yarn's experiment options where they are off
+        (`rve_rod.rve.yarn.OPTIONS_OFF`)."""
         settings = dataclasses.asdict(self)
         for name in LINEAR_SOLVER_OPTIONS:
             del settings["settings"]["newton"][name]
+        yarn = settings["settings"]["yarn"]
+        for name, off in OPTIONS_OFF.items():
+            if yarn[name] == off:
+                del yarn[name]
         return {"engine": f"{RodRve.__module__}.{RodRve.__qualname__}", "settings": settings}
 
     def __call__(self, case: RveCase) -> RveRun:

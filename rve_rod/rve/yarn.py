@@ -16,7 +16,13 @@ From yarn (r0, E0, nu, mu) and knit (w) as design.md states it (Weeger et al.):
   penetration g = 2r - d (`rve_rod.contact.CompressibleYarnLaw`), Coulomb friction mu; with
   `YarnSettings.contact_radius = "measured"` the law acts at the yarn's own radius r0 instead
   (g = 2 r0 - d), so that the unloaded loop's contacts are squeezed by 2 (r0 - r)
-  (`CONTACT_RADII`).
+  (`CONTACT_RADII`);
+* pre-tension (`YarnSettings.prestrain`, eps0, default 0): the yarn's natural length
+  1 / (1 + eps0) times the loop's (`RodModel.set_prestrain`), a taut loop held by its
+  contacts (`rve_rod.rve.cell.LoopCell.rest_state`; docs/validation.md, "The paper group's
+  RVE"); with `YarnSettings.natural_length = "measured"` the natural length is the fabric's
+  measured loop length l / (1 + eps0) instead, so that a template longer than l is stretched
+  by that much more (`NATURAL_LENGTHS`).
 """
 
 import logging
@@ -25,7 +31,7 @@ from typing import NamedTuple
 
 from rve_rod.contact import CompressibleYarnLaw, CoulombFriction
 from rve_rod.contact.law import DEFAULT_STIFFNESS_FACTOR
-from rve_rod.errors import InputError, check_positive
+from rve_rod.errors import InputError, check_positive, check_range
 from rve_rod.geometry.loop import adjusted_radius
 from rve_rod.presets import Fabric
 from rve_rod.rod import PAPER_CIRCLE, SOLID_CIRCLE, SectionStiffness
@@ -35,6 +41,9 @@ __all__ = [
     "BENDING_CHOICES",
     "BENDING_MODELS",
     "CONTACT_RADII",
+    "NATURAL_LENGTHS",
+    "OPTIONS_OFF",
+    "PRESTRAIN_LIMIT",
     "YarnModel",
     "YarnSettings",
     "bending_model",
@@ -60,6 +69,23 @@ is squeezed by 2 (r0 - r), and the cell starts from that pre-loaded rest state
 (`rve_rod.rve.cell.LoopCell.rest_state`; docs/validation.md, "The paper group's RVE")."""
 
 
+NATURAL_LENGTHS = ("template", "measured")
+"""What the prestrain eps0 is counted from: "template" (the default), the loop template's
+yarn length L, natural length L / (1 + eps0); "measured", the fabric's measured loop length l,
+natural length l / (1 + eps0): the rod's prestrain is then (1 + eps0) L / l - 1, larger where
+the template holds more yarn than the fabric (`rve_rod.rve.cell.LoopCell.prestrain`)."""
+
+OPTIONS_OFF = {"prestrain": 0.0, "natural_length": "template"}
+"""YarnSettings fields of the taut-loop experiment (issue 27) and the values that switch it
+off (the model as it was before them, bit for bit): left out of the RVE's cache identity at
+these values (`rve_rod.rve.engine.RodRve.cache_identity`), so that the runs and surfaces
+cached before the fields existed stay valid."""
+
+PRESTRAIN_LIMIT = 0.2
+"""Largest yarn prestrain eps0 accepted (-); the experiments of docs/validation.md ("The taut
+loop") go to 0.08."""
+
+
 @dataclass(frozen=True)
 class YarnSettings:
     """Choices of the yarn model that are not fabric data.
@@ -73,6 +99,9 @@ class YarnSettings:
         friction_stiffness_ratio: tangential penalty k_t / k (default 1).
         bending: one of BENDING_CHOICES (default "auto": `bending_model`).
         contact_radius: one of CONTACT_RADII (default "adjusted").
+        prestrain: eps0, the loop's yarn stretched by eps0 over its natural length, in
+            [0, PRESTRAIN_LIMIT] (default 0: the loop as built is stress-free).
+        natural_length: one of NATURAL_LENGTHS (default "template").
     """
 
     second_moment: str = SOLID_CIRCLE
@@ -82,6 +111,8 @@ class YarnSettings:
     friction_stiffness_ratio: float = 1.0
     bending: str = "auto"
     contact_radius: str = "adjusted"
+    prestrain: float = 0.0
+    natural_length: str = "template"
 
     def __post_init__(self):
         if self.second_moment not in (SOLID_CIRCLE, PAPER_CIRCLE):
@@ -100,6 +131,12 @@ class YarnSettings:
             raise InputError(
                 f"contact_radius={self.contact_radius!r} is unknown; valid: "
                 f"{', '.join(CONTACT_RADII)}"
+            )
+        check_range("prestrain", self.prestrain, 0.0, PRESTRAIN_LIMIT)
+        if self.natural_length not in NATURAL_LENGTHS:
+            raise InputError(
+                f"natural_length={self.natural_length!r} is unknown; valid: "
+                f"{', '.join(NATURAL_LENGTHS)}"
             )
         if self.bending != "section" and self.second_moment != SOLID_CIRCLE:
             raise InputError(
@@ -120,6 +157,8 @@ class YarnModel(NamedTuple):
         law: the normal contact law; its yarn_radius is the contact radius (r, or r0 with
             `YarnSettings.contact_radius = "measured"`).
         friction: Coulomb friction, or None (frictionless scene).
+        prestrain: eps0 of `YarnSettings.prestrain` (-).
+        natural_length: what eps0 is counted from (`YarnSettings.natural_length`).
     """
 
     radius: float
@@ -128,6 +167,8 @@ class YarnModel(NamedTuple):
     section: SectionStiffness
     law: CompressibleYarnLaw
     friction: CoulombFriction | None
+    prestrain: float = 0.0
+    natural_length: str = "template"
 
 
 def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnModel:
@@ -169,6 +210,8 @@ def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnM
         section=section,
         law=law,
         friction=friction,
+        prestrain=settings.prestrain,
+        natural_length=settings.natural_length,
     )
 
 

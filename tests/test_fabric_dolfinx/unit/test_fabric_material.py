@@ -1,137 +1,36 @@
-"""UFL material laws against independent evaluations: the numpy splines of rve_rod.surface,
-scipy's B-splines, the extension rule in closed form and the orthotropic compliance matrix."""
+"""Material laws and the material at the quadrature points against independent evaluations:
+the orthotropic compliance matrix, the numpy surface at each point's strain, a plain numpy
+rotation, each cell's own law and stitch value, NaN strains; and one compiled form for every
+surface (the forms' signatures, FFCx's compilations counted)."""
 
+import dataclasses
+
+import cffi
+import ffcx.codegeneration.jit
 import numpy as np
 import pytest
-import scipy.interpolate
 import ufl
 from dolfinx import fem, mesh
 from mpi4py import MPI
+from support.surface_cases import synthetic_surface
 
-from fabric_dolfinx.material import (
-    OrthotropicSVK,
-    piecewise_basis,
-    spline_1d,
-    spline_2d,
-    svk_stress,
-)
-from fabric_dolfinx.membrane.forms import flat_frame, membrane_state
+from fabric_dolfinx.graded import graded_material
+from fabric_dolfinx.material import OrthotropicSVK, surface_material, svk_material
+from fabric_dolfinx.membrane.forms import flat_frame, green_lagrange, membrane_state
+from fabric_dolfinx.membrane.quadrature import TANGENT_COMPONENTS, QuadratureMaterial
+from fabric_dolfinx.mesh.shapes import make_mesh
+from fabric_dolfinx.part.problem import PartProblem
+from fabric_dolfinx.part.regions import Region
+from fabric_dolfinx.spec.expression import FieldExpression
+from fabric_dolfinx.spec.part import BoundaryCondition, MeshSpec
 from rve_rod.errors import InputError
-from rve_rod.surface import Spline1D, Spline2D
 
-RNG = np.random.default_rng(5)
-# Knots on a 0.025 grid so that mesh vertices land on them; a double knot at 0.1.
-CUBIC_KNOTS = np.array([-0.1] * 4 + [-0.05, 0.025, 0.1, 0.1, 0.2] + [0.3] * 4)
-QUADRATIC_KNOTS = np.array([-0.15] * 3 + [-0.1, 0.0, 0.05, 0.05, 0.175] + [0.25] * 3)
-CUBIC = Spline1D(3, CUBIC_KNOTS, RNG.normal(size=9), extension_order=1)
-QUADRATIC = Spline1D(2, QUADRATIC_KNOTS, RNG.normal(size=8), extension_order=2)
-MIXED = Spline2D((3, 2), (CUBIC_KNOTS, QUADRATIC_KNOTS), RNG.normal(size=(9, 8)), (1, 2))
-FLAT = Spline2D((2, 3), (QUADRATIC_KNOTS, CUBIC_KNOTS), RNG.normal(size=(8, 9)), (0, 1))
-ALL_KNOTS = np.unique(np.concatenate([CUBIC_KNOTS, QUADRATIC_KNOTS]))
-
-
-@pytest.fixture(scope="module")
-def evaluated():
-    """The UFL splines and their ufl.diff derivatives at the vertices and 3 x 3 Gauss points
-    of a 28 x 28 grid over [-0.25, 0.45]^2 (inside and outside every domain).
-
-    Returns (x, y, values) with values[name] of shape (m,); one compiled Expression.
-    """
-    domain = mesh.create_rectangle(
-        MPI.COMM_SELF, [[-0.25, -0.25], [0.45, 0.45]], [28, 28], mesh.CellType.quadrilateral
-    )
-    coordinate = ufl.SpatialCoordinate(domain)
-    x, y = ufl.variable(coordinate[0]), ufl.variable(coordinate[1])
-    cubic, quadratic = spline_1d(CUBIC, x), spline_1d(QUADRATIC, y)
-    mixed, flat = spline_2d(MIXED, x, y), spline_2d(FLAT, x, y)
-    columns = {
-        "x": coordinate[0],
-        "y": coordinate[1],
-        "cubic": cubic,
-        "cubic_x": ufl.diff(cubic, x),
-        "quadratic": quadratic,
-        "quadratic_y": ufl.diff(quadratic, y),
-        "mixed": mixed,
-        "mixed_x": ufl.diff(mixed, x),
-        "mixed_y": ufl.diff(mixed, y),
-        "flat": flat,
-        "flat_y": ufl.diff(flat, y),
-    }
-    gauss = np.polynomial.legendre.leggauss(3)[0] / 2 + 0.5
-    points = np.array([[a, b] for a in [0.0, *gauss] for b in [0.0, *gauss]])
-    expression = fem.Expression(ufl.as_vector(list(columns.values())), points)
-    cells = np.arange(domain.topology.index_map(2).size_local, dtype=np.int32)
-    table = expression.eval(cells).reshape(-1, len(columns))
-    values = dict(zip(columns, table.T, strict=True))
-    return values.pop("x"), values.pop("y"), values
-
-
-def away_from_knots(t):
-    return np.abs(t[:, None] - ALL_KNOTS[None, :]).min(axis=1) > 1e-9
-
-
-def test_grid_reaches_knots_and_both_extensions(evaluated):
-    x, y, _ = evaluated
-    on_knot = np.isclose(x[:, None], ALL_KNOTS[None, :], rtol=0, atol=1e-14).any(axis=0)
-    assert on_knot.all()
-    assert x.min() < -0.15 and x.max() > 0.3 and y.min() < -0.15 and y.max() > 0.3
-
-
-@pytest.mark.parametrize(
-    ("name", "spline", "argument"), [("cubic", CUBIC, "x"), ("quadratic", QUADRATIC, "y")]
+SURFACE = synthetic_surface()
+STIFFER = dataclasses.replace(
+    SURFACE,
+    s11=dataclasses.replace(SURFACE.s11, coefficients=2.0 * SURFACE.s11.coefficients),
+    s12=dataclasses.replace(SURFACE.s12, coefficients=3.0 * SURFACE.s12.coefficients),
 )
-def test_1d_spline_matches_numpy_evaluation_everywhere(evaluated, name, spline, argument):
-    x, y, values = evaluated
-    t = x if argument == "x" else y
-    reference = spline.derivatives(t, 1)
-    np.testing.assert_allclose(values[name], reference[0], rtol=0, atol=1e-12)
-    smooth = away_from_knots(t)
-    np.testing.assert_allclose(
-        values[f"{name}_{argument}"][smooth], reference[1][smooth], rtol=0, atol=1e-9
-    )
-
-
-@pytest.mark.parametrize(("name", "spline"), [("mixed", MIXED), ("flat", FLAT)])
-def test_2d_spline_matches_numpy_evaluation_everywhere(evaluated, name, spline):
-    x, y, values = evaluated
-    reference = spline.derivatives(x, y, 1)
-    np.testing.assert_allclose(values[name], reference[0, 0], rtol=0, atol=1e-11)
-    smooth = away_from_knots(x) & away_from_knots(y)
-    if name == "mixed":
-        np.testing.assert_allclose(values["mixed_x"][smooth], reference[1, 0][smooth], atol=1e-8)
-    np.testing.assert_allclose(values[f"{name}_y"][smooth], reference[0, 1][smooth], atol=1e-8)
-
-
-def test_2d_spline_inside_matches_scipy(evaluated):
-    """FITPACK's bisplev is an implementation independent of both evaluators."""
-    x, y, values = evaluated
-    inside = (np.abs(x - 0.1) <= 0.2) & (np.abs(y - 0.05) <= 0.2)
-    tck = [*MIXED.knots, MIXED.coefficients.ravel(), *MIXED.degrees]
-    reference = [
-        scipy.interpolate.bisplev(a, b, tck) for a, b in zip(x[inside], y[inside], strict=True)
-    ]
-    np.testing.assert_allclose(values["mixed"][inside], reference, rtol=0, atol=1e-12)
-
-
-def test_extension_is_the_taylor_polynomial_at_the_nearest_end(evaluated):
-    """docs/surface-format.md: order k = 2 above and below the QUADRATIC domain [-0.15, 0.25]."""
-    _, y, values = evaluated
-    reference = scipy.interpolate.BSpline(QUADRATIC_KNOTS, QUADRATIC.coefficients, 2)
-    for end, side in ((0.25, y > 0.25), (-0.15, y < -0.15)):
-        d = y[side] - end
-        taylor = reference(end) + reference(end, nu=1) * d + reference(end, nu=2) * d**2 / 2
-        np.testing.assert_allclose(values["quadratic"][side], taylor, rtol=0, atol=1e-12)
-
-
-@pytest.mark.parametrize("order", [0, 1, 2])
-def test_piecewise_basis_is_a_partition_of_unity_on_every_piece(order):
-    """sum_i N_i^ext = 1 inside and outside: constant term 1, all others 0 on every piece."""
-    basis = piecewise_basis(CUBIC_KNOTS, 3, order)
-    total = basis.coefficients.sum(axis=0)
-    np.testing.assert_allclose(total[:, 0], 1.0, atol=1e-14)
-    np.testing.assert_allclose(total[:, 1:], 0.0, atol=1e-12)
-    assert basis.origins[0] == -0.1 and basis.origins[-1] == 0.3
-    assert np.all(basis.coefficients[:, [0, -1], order + 1 :] == 0.0)
 
 
 def test_svk_matrix_inverts_to_the_orthotropic_compliance():
@@ -141,6 +40,11 @@ def test_svk_matrix_inverts_to_the_orthotropic_compliance():
     compliance = np.array([[1 / E1, -nu12 / E1], [-nu12 / E1, 1 / E2]])
     np.testing.assert_allclose(np.linalg.inv(C[:2, :2]), compliance, rtol=1e-14)
     assert C[2, 2] == pytest.approx(2 * 0.3)
+    E = np.array([[0.1, -0.02, 0.03]])
+    result = material.stress(E)
+    S11 = (E1 * 0.1 + nu12 * E2 * -0.02) / (1 - nu12**2 * E2 / E1)
+    np.testing.assert_allclose(result.S[0], [S11, C[1] @ E[0], 2 * 0.3 * 0.03], rtol=1e-14)
+    np.testing.assert_array_equal(result.tangent[0], C)
 
 
 @pytest.mark.parametrize(
@@ -157,24 +61,57 @@ def test_svk_rejects_bad_parameters(field, value, message):
     assert message in str(error.value)
 
 
+def homogeneous(strain, angle=0.0, cells=2):
+    """u = (U - I) X on the unit square (cells x cells) with U^T U = I + 2 `strain` (global
+    frame), course at `angle` radians: (mesh, u, frame)."""
+    domain = mesh.create_unit_square(MPI.COMM_SELF, cells, cells, mesh.CellType.quadrilateral)
+    values, vectors = np.linalg.eigh(np.eye(2) + 2 * np.asarray(strain))
+    stretch = vectors @ np.diag(np.sqrt(values)) @ vectors.T
+    u = fem.Function(fem.VectorFunctionSpace(domain, ("Lagrange", 1)))
+    u.interpolate(lambda x: (stretch - np.eye(2)) @ x[:2])
+    return domain, u, flat_frame(domain, fem.Constant(domain, angle))
+
+
+def test_the_quadrature_values_are_the_law_at_the_strain_of_each_point():
+    """A homogeneous strain beyond the surface domain: at every one of the 3 x 3 points of
+    every cell S and the five tangent entries of the numpy surface at the rotated strain."""
+    angle, strain = 0.3, np.array([[0.4, 0.05], [0.05, -0.1]])
+    domain, u, frame = homogeneous(strain, angle)
+    points = QuadratureMaterial(green_lagrange(u, frame), domain, [surface_material(SURFACE)], 4)
+    assert points.points.shape == (9, 2)
+    points.update()
+    c, s = np.cos(angle), np.sin(angle)
+    R = np.array([[c, -s], [s, c]])
+    local = R.T @ strain @ R
+    expected = SURFACE.stress(np.array([local[0, 0], local[1, 1], local[0, 1]]))
+    assert expected.outside[0]
+    stress = points.stress_values.x.array.reshape(-1, 3)
+    tangent = points.tangent_values.x.array.reshape(-1, 5)
+    assert stress.shape[0] == 4 * 9
+    np.testing.assert_allclose(stress, np.repeat(expected.S, 36, axis=0), rtol=1e-12)
+    stored = np.array([expected.tangent[0][a, b] for a, b in TANGENT_COMPONENTS])
+    np.testing.assert_allclose(tangent, np.repeat(stored[None], 36, axis=0), rtol=1e-12)
+    # the entries left out are 0 in the surface contract
+    mask = np.ones((3, 3), bool)
+    mask[tuple(np.array(TANGENT_COMPONENTS).T)] = False
+    assert np.all(expected.tangent[0][mask] == 0.0)
+
+
 def test_rotated_svk_stress_matches_numpy_rotation():
     """The membrane's law sees R^T E R and R S R^T is C(R^T E R) rotated back, for a constant
     angle and a homogeneous stretch u = (U - I) X, against a plain numpy evaluation."""
     material = OrthotropicSVK(1.0, 0.4, 0.3, 0.1)
     angle, strain = 0.7, np.array([[0.1, 0.03], [0.03, -0.02]])
-    domain = mesh.create_unit_square(MPI.COMM_SELF, 1, 1, mesh.CellType.quadrilateral)
-    values, vectors = np.linalg.eigh(np.eye(2) + 2 * strain)
-    stretch = vectors @ np.diag(np.sqrt(values)) @ vectors.T  # U with U^T U = I + 2E
-    u = fem.Function(fem.VectorFunctionSpace(domain, ("Lagrange", 1)))
-    u.interpolate(lambda x: (stretch - np.eye(2)) @ x[:2])
-    frame = flat_frame(domain, fem.Constant(domain, angle))
-    state = membrane_state(u, lambda E: svk_stress(E, material), frame)
+    domain, u, frame = homogeneous(strain, angle, cells=1)
+    points = QuadratureMaterial(green_lagrange(u, frame), domain, [svk_material(material)], 1)
+    points.update()
+    state = membrane_state(u, points.stress, frame)
     T = frame.tangents
     S = T * state.second_piola_kirchhoff * T.T
     fields = ufl.as_vector(
         [state.reference_strain[0, 1]] + [S[i, j] for i in (0, 1) for j in (0, 1)]
     )
-    table = fem.Expression(fields, np.array([[0.5, 0.5]])).eval(np.array([0], dtype=np.int32))
+    table = fem.Expression(fields, points.points).eval(np.array([0], dtype=np.int32))
     assert table[0, 0] == pytest.approx(strain[0, 1], abs=1e-15)
     value = table[0, 1:].reshape(2, 2)
     c, s = np.cos(angle), np.sin(angle)
@@ -183,3 +120,83 @@ def test_rotated_svk_stress_matches_numpy_rotation():
     voigt = material.plane_stress_matrix() @ [local[0, 0], local[1, 1], local[0, 1]]
     expected = R @ np.array([[voigt[0], voigt[2]], [voigt[2], voigt[1]]]) @ R.T
     np.testing.assert_allclose(value, expected, rtol=0, atol=1e-15)
+
+
+def test_each_cell_has_its_own_law_and_stitch_value():
+    """Cell 0 SVK, cells 1-2 graded between two SVK laws at stitch 4.5 and 5.5, cell 3 no
+    law (left 0): S at its points is C E of its own law, the graded one with the weights of
+    its cell's stitch value. A NaN strain gives NaN S (the solver then cuts back)."""
+    strain = np.array([[0.02, 0.01], [0.01, 0.03]])
+    domain, u, frame = homogeneous(strain)
+    laws = [OrthotropicSVK(1.0, 0.5, 0.2, 0.1), OrthotropicSVK(3.0, 2.0, 0.1, 0.5)]
+    graded = graded_material([(5.5, svk_material(laws[1])), (4.5, svk_material(laws[0]))])
+    materials = [svk_material(OrthotropicSVK(2.0, 2.0, 0.0, 1.0)), graded]
+    stitch = np.array([0.0, 4.5 + 0.25, 4.5 + 0.75, 0.0])
+    points = QuadratureMaterial(
+        green_lagrange(u, frame), domain, materials, 2, np.array([0, 1, 1, -1]), stitch
+    )
+    points.update()
+    E = np.array([0.02, 0.03, 0.01])
+    dofs = points.stress_values.function_space.dofmap.list.array.reshape(4, -1)
+    stress = points.stress_values.x.array.reshape(-1, 3)
+    C = [law.plane_stress_matrix() for law in laws]
+    expected = {
+        0: np.diag([2.0, 2.0, 2.0]) @ E,
+        1: (0.75 * C[0] + 0.25 * C[1]) @ E,
+        2: (0.25 * C[0] + 0.75 * C[1]) @ E,
+        3: np.zeros(3),
+    }
+    for cell, value in expected.items():
+        np.testing.assert_allclose(stress[dofs[cell]], np.tile(value, (4, 1)), atol=1e-15)
+    u.x.array[0] = np.nan
+    points.update()
+    assert np.isnan(points.stress_values.x.array).any()
+    assert np.isfinite(stress[dofs[2]]).all()  # the cell away from the NaN node
+
+
+def test_different_surfaces_and_regions_compile_no_new_form():
+    """The forms hold no number of the law: parts with another surface, with two regions or
+    with a graded family have the residual and Jacobian of the first (equal signatures), and
+    building them compiles nothing (FFCx's compilations counted)."""
+    tagged = make_mesh(MeshSpec("rectangle", {"width": 20.0, "height": 10.0}, element_size=5.0))
+    conditions = [BoundaryCondition("left"), BoundaryCondition("right", "traction", (0.01, 0))]
+    first, stiffer = surface_material(SURFACE), surface_material(STIFFER)
+
+    def forms(regions):
+        stepper = PartProblem(tagged, regions, conditions).stepper
+        return stepper._residual_form, stepper._jacobian_form
+
+    reference = forms([Region("fabric", first, angle=10.0)])
+    compiled = []
+    original = ffcx.codegeneration.jit._compile_objects
+
+    def counted(*args, **kwargs):
+        compiled.append(args[1])
+        return original(*args, **kwargs)
+
+    ffcx.codegeneration.jit._compile_objects = counted
+    try:
+        others = [
+            forms([Region("fabric", stiffer, angle=10.0)]),
+            forms(
+                [
+                    Region("fabric", first, angle=FieldExpression("x")),
+                    Region("band", stiffer, where=FieldExpression("x > 10")),
+                ]
+            ),
+            forms(
+                [
+                    Region(
+                        "fabric",
+                        None,
+                        stitch=FieldExpression("4 + x / 10"),
+                        family=((4.0, first), (6.0, stiffer)),
+                    )
+                ]
+            ),
+        ]
+    finally:
+        ffcx.codegeneration.jit._compile_objects = original
+    assert compiled == []
+    signature = [[cffi.FFI().string(f.ufcx_form.signature) for f in pair] for pair in others]
+    assert signature == [[cffi.FFI().string(f.ufcx_form.signature) for f in reference]] * 3

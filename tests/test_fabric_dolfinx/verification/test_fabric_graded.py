@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import scipy.optimize
 
-from fabric_dolfinx.graded import hat_weights
+from fabric_dolfinx.graded import stitch_weights
 from fabric_dolfinx.material import OrthotropicSVK, svk_material
 from fabric_dolfinx.mesh.shapes import make_mesh
 from fabric_dolfinx.part.problem import PartProblem
@@ -85,15 +85,20 @@ def test_a_stitch_graded_along_the_strip_elongates_like_its_columns_in_series():
         assert step.iterations <= 5
 
 
-def test_hat_weights_are_a_partition_of_unity_exact_at_the_members():
-    import ufl  # noqa: PLC0415
-
+def test_stitch_weights_are_hats_exact_at_the_members():
+    """Hand values: a quarter of the way from 4.5 to 5 half each, 5.6 (0.6 of the way from 5
+    to 6) 0.4 and 0.6; members exact; every point of an array at once."""
     values = [4.5, 5.0, 6.0, 7.0]
-    for stitch in (4.5, 4.75, 5.0, 5.6, 6.0, 7.0):
-        weights = [float(w) for w in hat_weights(values, ufl.as_ufl(stitch))]
-        assert sum(weights) == pytest.approx(1.0, abs=1e-15)
-        expected = np.interp(stitch, values, np.eye(4)[0]), np.interp(stitch, values, np.eye(4)[1])
-        assert weights[:2] == pytest.approx(list(expected), abs=1e-15)
+    stitch = np.array([4.5, 4.75, 5.0, 5.6, 6.0, 7.0])
+    expected = [
+        [1.0, 0.0, 0.0, 0.0],
+        [0.5, 0.5, 0.0, 0.0],
+        [0.0, 1.0, 0.0, 0.0],
+        [0.0, 0.4, 0.6, 0.0],
+        [0.0, 0.0, 1.0, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ]
+    np.testing.assert_allclose(stitch_weights(values, stitch).T, expected, rtol=0, atol=1e-15)
 
 
 def test_stitch_values_outside_the_family_are_refused():

@@ -3,60 +3,15 @@ with a hole on rollers, stretched by 10 %, on uniformly refined unstructured qua
 
 import numpy as np
 import pytest
-from dolfinx import fem
-from dolfinx import mesh as dolfinx_mesh
-from petsc4py import PETSc
-from support.surface_cases import synthetic_surface
+from support.plate_cases import stretched_plate
 
-from fabric_dolfinx.material import surface_material
-from fabric_dolfinx.membrane.forms import flat_frame, membrane_forms
-from fabric_dolfinx.mesh.shapes import make_mesh
-from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
-from fabric_dolfinx.spec.part import MeshSpec
-
-MATERIAL = surface_material(synthetic_surface())
 ELEMENT_SIZE = 5.0  # mm, halved by every refinement
 
 
 def stretched_plate_reaction(refinements: int) -> float:
-    """Reaction (N) on the right edge of the 50 x 50 mm plate with a 10 mm hole.
-
-    Left and right edges are rollers (u_x = 0, u_x = 5 mm); the corner (0, 0) is pinned in y,
-    which only removes the rigid translation (its reaction is the total y force, zero). So no
-    clamp corner singularity spoils the rate: the solution is smooth up to the hole boundary.
-    """
-    tagged = make_mesh(
-        MeshSpec("plate_with_hole", element_size=ELEMENT_SIZE, refinements=refinements)
-    )
-    domain = tagged.mesh
-    space = fem.VectorFunctionSpace(domain, ("Lagrange", 1))
-    u = fem.Function(space)
-    forms = membrane_forms(u, MATERIAL.law, flat_frame(domain))
-    stretch = fem.Constant(domain, PETSc.ScalarType(0.0))
-    corner = dolfinx_mesh.locate_entities_boundary(
-        domain, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], 0.0)
-    )
-    zero = PETSc.ScalarType(0.0)
-    bcs = [
-        fem.dirichletbc(
-            zero, fem.locate_dofs_topological(space.sub(0), 1, tagged.facets("left")), space.sub(0)
-        ),
-        fem.dirichletbc(
-            stretch,
-            fem.locate_dofs_topological(space.sub(0), 1, tagged.facets("right")),
-            space.sub(0),
-        ),
-        fem.dirichletbc(zero, fem.locate_dofs_topological(space.sub(1), 0, corner), space.sub(1)),
-    ]
-    reactions = {"right": boundary_indicator(space, tagged.facets("right"))}
-    stepper = LoadStepper(
-        forms.residual, forms.jacobian, u, bcs, options=SolverOptions(steps=2), reactions=reactions
-    )
-
-    def apply_load(t):
-        stretch.value = 5.0 * t
-
-    reaction = stepper.run(apply_load).steps[-1].reactions["right"]
+    """Reaction (N) on the right edge of the plate (`support.plate_cases`); its y component
+    is the pinned corner's, zero."""
+    reaction = stretched_plate(refinements, element_size=ELEMENT_SIZE).reaction
     assert abs(reaction[1]) < 1e-12 * abs(reaction[0])
     return float(reaction[0])
 

@@ -10,7 +10,13 @@ from dolfinx import fem
 from support.surface_cases import synthetic_surface
 
 from fabric_dolfinx.material import surface_material
-from fabric_dolfinx.membrane.forms import flat_frame, membrane_forms, membrane_state
+from fabric_dolfinx.membrane.forms import (
+    flat_frame,
+    green_lagrange,
+    membrane_forms,
+    membrane_state,
+)
+from fabric_dolfinx.membrane.quadrature import QuadratureMaterial
 from fabric_dolfinx.mesh.shapes import make_mesh
 from fabric_dolfinx.part.tension import TensionSetup
 from fabric_dolfinx.solve import LoadStepper, SolverOptions, boundary_indicator
@@ -51,8 +57,9 @@ class Membrane:
         self.u = fem.Function(space)
         angle_constant = fem.Constant(domain, angle)
         frame = flat_frame(domain, angle_constant)
-        forms = membrane_forms(self.u, MATERIAL.law, frame, 2)
-        S = global_stress(membrane_state(self.u, MATERIAL.law, frame), frame)
+        self.material = QuadratureMaterial(green_lagrange(self.u, frame), domain, [MATERIAL], 2)
+        forms = membrane_forms(self.u, self.material, frame)
+        S = global_stress(membrane_state(self.u, self.material.stress, frame), frame)
         F = ufl.Identity(2) + ufl.grad(self.u)
         points, _ = basix.make_quadrature(basix.CellType.quadrilateral, 2)
         values = ufl.as_vector(
@@ -70,11 +77,18 @@ class Membrane:
         reactions = {name: boundary_indicator(space, tagged.facets(name)) for name in boundaries}
         options = SolverOptions(steps=4, relative_tolerance=1e-12, absolute_tolerance=1e-14)
         self.stepper = LoadStepper(
-            forms.residual, forms.jacobian, self.u, bcs, options=options, reactions=reactions
+            forms.residual,
+            forms.jacobian,
+            self.u,
+            bcs,
+            options=options,
+            reactions=reactions,
+            update=self.material.update,
         )
 
     def quadrature_values(self):
         """(F, S) at all local quadrature points, each (m, 2, 2)."""
+        self.material.update()
         table = self._expression.eval(self._cells).reshape(-1, 8)
         return table[:, :4].reshape(-1, 2, 2), table[:, 4:].reshape(-1, 2, 2)
 
@@ -218,7 +232,9 @@ def test_spatially_varying_orientation_field():
     angle = fem.Function(fem.FunctionSpace(domain, ("DG", 0)))
     angle.interpolate(lambda x: np.arctan2(x[1] - 25.0, x[0] - 25.0) + np.pi / 2)
     frame = flat_frame(domain, angle)
-    S = global_stress(membrane_state(u, MATERIAL.law, frame), frame)
+    material = QuadratureMaterial(green_lagrange(u, frame), domain, [MATERIAL], 2)
+    material.update()
+    S = global_stress(membrane_state(u, material.stress, frame), frame)
     points, _ = basix.make_quadrature(basix.CellType.quadrilateral, 2)
     values = ufl.as_vector([angle] + [S[i, j] for i in range(2) for j in range(2)])
     cells = np.arange(domain.topology.index_map(2).size_local, dtype=np.int32)

@@ -2,11 +2,9 @@
 
 import numpy as np
 import pytest
-import ufl
 from support.design_cases import STITCHES, synthetic_family
 
-from fabric_dolfinx.graded import hat_weights
-from knitmech.design.family import stitch_weights
+from fabric_dolfinx.graded import stitch_weights
 from rve_rod.errors import InputError
 
 
@@ -15,12 +13,14 @@ def family():
     return synthetic_family()
 
 
-@pytest.mark.parametrize("stitch", [4.0, 4.5, 4.8, 5.0, 5.25, 6.0, 6.99, 7.0, 7.5])
-def test_numpy_weights_equal_the_graded_law_in_ufl(stitch):
-    """The membrane's graded law (UFL conditionals) and the design's (NumPy) weight the
-    members alike, beyond the ends too."""
-    ufl_weights = [float(w(())) for w in hat_weights(STITCHES, ufl.as_ufl(stitch))]
-    np.testing.assert_allclose(stitch_weights(STITCHES, stitch), ufl_weights, atol=1e-15)
+def test_weights_at_many_points_are_those_of_each_point_and_constant_beyond_the_ends():
+    """The membrane weights all its quadrature points at once: (n, m) for m stitch values."""
+    stitches = np.array([4.0, 4.5, 4.8, 5.0, 5.25, 6.0, 6.99, 7.0, 7.5])
+    weights = stitch_weights(STITCHES, stitches)
+    assert weights.shape == (len(STITCHES), stitches.size)
+    for column, stitch in enumerate(stitches):
+        np.testing.assert_array_equal(weights[:, column], stitch_weights(STITCHES, stitch))
+    np.testing.assert_array_equal(weights[:, [0, -1]].T, np.eye(6)[[0, -1]])
 
 
 def test_weights_are_a_partition_of_unity_and_hats():

@@ -128,3 +128,16 @@ def test_the_linear_solver_settings_are_not_part_of_the_cache_identity():
     assert "ordering" not in json.dumps(identity)
     searched = dataclasses.replace(COARSE, newton=NewtonOptions(line_search=2))
     assert engine.RodRve(searched).cache_identity() != identity
+
+
+def test_the_taut_loop_options_enter_the_cache_identity_only_when_on():
+    """Off (their defaults) they leave the model as it was, so the runs and surfaces cached
+    before they existed stay valid; on, they are part of the identity."""
+    identity = engine.RodRve(COARSE).cache_identity()
+    assert not {"prestrain", "natural_length"} & set(identity["settings"]["settings"]["yarn"])
+    for change in ({"prestrain": 0.02}, {"natural_length": "measured"}):
+        taut = dataclasses.replace(COARSE, yarn=dataclasses.replace(COARSE.yarn, **change))
+        other = engine.RodRve(taut).cache_identity()
+        assert other != identity
+        ((name, value),) = change.items()
+        assert other["settings"]["settings"]["yarn"][name] == value

@@ -59,6 +59,12 @@ def test_bad_settings_are_refused():
         YarnSettings(second_moment="hollow")
     with pytest.raises(InputError, match="rotational_modulus_factor=-1"):
         YarnSettings(rotational_modulus_factor=-1)
+    with pytest.raises(InputError, match=r"prestrain=-0\.01"):
+        YarnSettings(prestrain=-0.01)
+    with pytest.raises(InputError, match=r"prestrain=0\.3"):
+        YarnSettings(prestrain=0.3)
+    with pytest.raises(InputError, match="natural_length='spun' is unknown"):
+        YarnSettings(natural_length="spun")
 
 
 def test_free_fibre_bending_sums_the_cotton_fibres_with_the_pre_tension_scaling():

@@ -90,3 +90,31 @@ def test_crimped_periodic_rod_decrimps_and_the_support_reaction_vanishes():
     # The support only removes rigid modes: its reaction moment is a discretization error.
     assert reactions[-1] < 1e-6
     assert reactions[-1] < reactions[0] / 100
+
+
+@pytest.mark.parametrize("prestrain", [0.01, 0.04])
+def test_a_prestrained_rod_pulls_with_ea_eps0_over_one_plus_eps0_at_its_reference_length(
+    prestrain,
+):
+    """`RodModel.set_prestrain`: natural length L / (1 + eps0). Held at L the rod pulls with
+    N = EA eps0 / (1 + eps0) (the strain per reference length is 1 - 1 / (1 + eps0)); free of
+    load it shortens to its natural length, e = -eps0 / (1 + eps0)."""
+    held = SECTION.axial * prestrain / (1.0 + prestrain)
+    for force, stretch in ((held, 0.0), (0.0, -prestrain / (1.0 + prestrain))):
+        model = periodic_cell(straight(LENGTH, 4, 12), force)
+        model.set_prestrain(prestrain)
+        state = solve_path(model.problem(), model.reference_state(), [1.0]).final_state
+        assert state[model.layout.extra_dofs()][0] == pytest.approx(stretch, abs=1e-12)
+
+
+def test_undoing_the_prestrain_restores_the_model_bit_for_bit():
+    """set_prestrain(0) after another prestrain gives the residual of the model as built,
+    bit for bit (eps0 = 0 is the default model), and a prestrain changes it."""
+    model = periodic_cell(wavy(16), 0.01 * SECTION.axial)
+    state = model.reference_state()
+    state[: 7 * 16] += 1e-3 * np.sin(np.arange(7 * 16))
+    before = model.residual(state)
+    model.set_prestrain(0.03)
+    assert np.abs(model.residual(state) - before).max() > 1e-3 * SECTION.axial
+    model.set_prestrain(0.0)
+    np.testing.assert_array_equal(model.residual(state), before)

@@ -1,14 +1,20 @@
 """The squeezed rest state (`YarnSettings.contact_radius = "measured"`, `LoopCell.rest_state`):
 the contact law at the yarn's radius r0 > r squeezes the unloaded loop's contacts; the cell
-starts from that equilibrium at F = I and measures its stresses from it."""
+starts from that equilibrium at F = I and measures its stresses from it. The taut rest state
+(`YarnSettings.prestrain`): a yarn shorter than its loop, held by its contacts, the same way."""
+
+import dataclasses
 
 import numpy as np
 import pytest
 
+from rve_rod.errors import InputError
+from rve_rod.geometry.bspline import BSplineCurve
+from rve_rod.geometry.loop import loop_geometry
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.load_cases import load_case
-from rve_rod.rve.simulation import RveSettings, simulate
+from rve_rod.rve.load_cases import BiaxialRay, load_case
+from rve_rod.rve.simulation import RveSettings, build_cell, loop_curves, simulate
 from rve_rod.rve.yarn import YarnSettings, yarn_model
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
@@ -20,9 +26,17 @@ SQUEEZED = RveSettings(
 )
 
 
-@pytest.fixture(scope="module")
-def course():
-    return simulate(load_preset("cotton-20s2", 5.5), load_case("uniaxial-course", 0.1, 5), SQUEEZED)
+TAUT = RveSettings(
+    cell=CellSettings(control_points=28), yarn=YarnSettings(bending="free-fibres", prestrain=0.02)
+)
+
+
+@pytest.fixture(scope="module", params=["squeezed", "taut"])
+def course(request):
+    """Cotton 5.5 course-wise to 10 %, from the squeezed rest or from the taut rest (the yarn
+    2 % longer than its natural length)."""
+    settings = {"squeezed": SQUEEZED, "taut": TAUT}[request.param]
+    return simulate(load_preset("cotton-20s2", 5.5), load_case("uniaxial-course", 0.1, 5), settings)
 
 
 def test_the_contact_law_acts_at_the_measured_radius():
@@ -32,8 +46,9 @@ def test_the_contact_law_acts_at_the_measured_radius():
 
 
 def test_the_rest_state_is_pre_loaded_and_the_stresses_start_from_it(course):
-    """At rest the squeezed contacts load the cell (P0 of a few gf/cm, tensile along both
-    axes: the interlocks pushed apart pull the yarn taut); the reported stress starts at zero,
+    """At rest the squeezed contacts, or the prestrained yarn, load the cell (P0 of a few
+    gf/cm, tensile along both axes: the yarn pulls the cell in, whether the interlocks pushed
+    apart stretch it or it is shorter than its loop); the reported stress starts at zero,
     the course height stays the measured one, and the free direction keeps its rest load."""
     rest = n_per_mm_to_gf_per_cm(course.rest_stress)
     assert rest[0, 0] > 1.0 and rest[1, 1] > 1.0
@@ -64,3 +79,49 @@ def test_a_yarn_that_fits_its_loop_has_no_squeeze():
     np.testing.assert_array_equal(runs[0].rest_stress, 0.0)
     np.testing.assert_array_equal(runs[1].rest_stress, 0.0)
     np.testing.assert_array_equal(runs[0].series("first_piola"), runs[1].series("first_piola"))
+
+
+def test_the_taut_rest_state_shortens_the_yarn_by_what_its_force_says():
+    """At rest the loop gives up most of the yarn's excess length (its contacts hold little of
+    the prestrain): the yarn length lies between the natural L / (1 + eps0) and the
+    template's L, and its axial force, averaged along the yarn, is EA (L_rest / L -
+    1 / (1 + eps0)), the force the prestrained strain measure gives for that length."""
+    fabric = load_preset("cotton-20s2", 5.5)
+    cell = build_cell(loop_curves(fabric), fabric, BiaxialRay(steps=2), TAUT)
+    rest = cell.rest_state(TAUT.newton, TAUT.stepping)
+    force = cell.model.evaluate(rest, 0.0, with_jacobian=False).section.force
+    curve = cell.curve
+    deformed = BSplineCurve(curve.degree, curve.knots, cell.positions(rest))
+    tangent = deformed(cell.model.collocation[0].parameters, 1)
+    axial = np.sum(force.T * tangent, axis=1) / np.linalg.norm(tangent, axis=1)
+    weights = cell.model.tributary_lengths
+    prestrain, length = TAUT.yarn.prestrain, curve.arc_length()
+    stretch = deformed.arc_length() / length
+    assert 1.0 / (1.0 + prestrain) < stretch < 1.0
+    expected = cell.yarn.section.axial * (stretch - 1.0 / (1.0 + prestrain))
+    assert np.sum(axial * weights) / np.sum(weights) == pytest.approx(expected, rel=1e-3)
+
+
+@pytest.mark.parametrize("stitch", [4.5, 6.5])
+def test_counted_from_the_measured_loop_length_the_prestrain_is_the_templates_excess(stitch):
+    """natural_length="measured": the yarn's natural length is l / (1 + eps0), l the measured
+    loop length, so the rods' prestrain is (1 + eps0) L / l - 1 with L the loop template's
+    length (`loop_geometry`); a knit without a measured loop length is refused."""
+    fabric = load_preset("cotton-20s2", stitch)
+    yarn = YarnSettings(bending="free-fibres", prestrain=0.02, natural_length="measured")
+    cell = build_cell(
+        loop_curves(fabric), fabric, BiaxialRay(steps=2), RveSettings(cell=TAUT.cell, yarn=yarn)
+    )
+    template = loop_geometry(fabric.knit, fabric.yarn.minimal_radius).loop_length
+    expected = 1.02 * template / fabric.knit.measured_loop_length - 1.0
+    assert cell.prestrain == pytest.approx(expected, rel=1e-9)
+    unmeasured = dataclasses.replace(
+        fabric, knit=dataclasses.replace(fabric.knit, measured_loop_length=None)
+    )
+    with pytest.raises(InputError, match="natural_length='measured' needs"):
+        build_cell(
+            loop_curves(unmeasured),
+            unmeasured,
+            BiaxialRay(steps=2),
+            RveSettings(cell=TAUT.cell, yarn=yarn),
+        )
