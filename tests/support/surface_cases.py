@@ -142,3 +142,35 @@ def synthetic_surface(
         psi_shear = Spline1D(shear_degree, shear_knots, shear, 2)
         return energy_surface(psi, psi_shear, parameters=parameters)
     raise InputError(f"kind={kind!r} must be 'stress' or 'energy'")
+
+
+DOMAIN = (-0.1, 0.3)
+"""The strain domain of `quadratic_in` and `two_quadratics_surface`."""
+
+
+def quadratic_in(axis, value, slope, curvature):
+    """Spline2D of f = value + slope t + curvature t^2 / 2 in input `axis` (t = E11 or E22),
+    constant in the other: one Bezier span of degree 2 times degree 1."""
+    low, high = DOMAIN
+    f = lambda t: value + slope * t + curvature * t**2 / 2  # noqa: E731
+    df = slope + curvature * low
+    bezier = np.array([f(low), f(low) + df * (high - low) / 2, f(high)])
+    coefficients = np.repeat(bezier[:, None], 2, axis=1)
+    if axis == 1:
+        coefficients = coefficients.T
+    knots = {2: np.array([low] * 3 + [high] * 3), 1: np.array([low] * 2 + [high] * 2)}
+    degrees = (2, 1) if axis == 0 else (1, 2)
+    return Spline2D(degrees, tuple(knots[p] for p in degrees), coefficients, (1, 1))
+
+
+def two_quadratics_surface(curvature_22):
+    """A stress surface with S11 quadratic in E11 (dS11/dE11 = 0.5 + 4 E11), S22 quadratic in
+    E22 (dS22/dE22 = 0.2 + curvature_22 E22) and a linear S12: its softest normal stiffness is
+    known in closed form."""
+    shear = Spline1D(1, np.array([-0.2, -0.2, 0.2, 0.2]), np.array([-0.02, 0.02]), 1)
+    return ResponseSurface(
+        kind="stress",
+        s11=quadratic_in(0, 0.0, 0.5, 4.0),  # dS11/dE11 = 0.5 + 4 E11: softest at E11 = -0.1
+        s22=quadratic_in(1, 0.0, 0.2, curvature_22),  # dS22/dE22 = 0.2 + k E22
+        s12=shear,
+    )

@@ -5,7 +5,7 @@ import dataclasses
 
 import numpy as np
 import pytest
-from test_surface_stability import quadratic_in, surface
+from support.surface_cases import quadratic_in, two_quadratics_surface
 
 from rve_rod.homogenize.acceptance import beyond_stopped_rays, surface_problems
 from rve_rod.homogenize.analytic import AnalyticRve
@@ -15,19 +15,21 @@ from rve_rod.presets import make_fabric
 
 
 def test_a_sound_surface_has_no_problems():
-    assert surface_problems(surface(curvature_22=1.0)) == []
+    assert surface_problems(two_quadratics_surface(curvature_22=1.0)) == []
 
 
 def test_compression_in_biaxial_tension_is_a_sign_problem():
     # S11 = -0.05 + 0.5 E11: compressive wherever E11 < 0.1, E = (0, 0) included
-    negative = dataclasses.replace(surface(1.0), s11=quadratic_in(0, -0.05, 0.5, 0.0))
+    negative = dataclasses.replace(
+        two_quadratics_surface(1.0), s11=quadratic_in(0, -0.05, 0.5, 0.0)
+    )
     (problem,) = surface_problems(negative)
     assert problem.startswith("sign: S11 = -0.05 N/mm at E = (0, ")
 
 
 def test_softening_is_a_monotonicity_problem():
     # dS22/dE22 = 0.2 - E22: -0.1 at the domain's end E22 = 0.3 (S22 = 0.015 > 0 there)
-    (problem,) = surface_problems(surface(curvature_22=-1.0))
+    (problem,) = surface_problems(two_quadratics_surface(curvature_22=-1.0))
     assert problem.startswith("monotonicity: dS22/dE22 = -0.1 N/mm at E = (")
 
 
