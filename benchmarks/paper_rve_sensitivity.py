@@ -96,11 +96,8 @@ VARIANTS = (
         "free fibres, contact at r0 and prestrain eps0 = 2 %",
         {**FIBRES, "contact_radius": "measured", "prestrain": 0.02},
     ),
-    Variant(
-        "free fibres, point loads r f_n at the collocation points",
-        FIBRES,
-        lumping="point",
-    ),
+    Variant("section, point loads r f_n at the collocation points", SECTION, lumping="point"),
+    Variant("free fibres, point loads r f_n at the collocation points", FIBRES, lumping="point"),
 )
 
 
