@@ -7,7 +7,7 @@ largest stress of their run so far; target 20 %), and our uniaxial runs against 
 readings of their data (README of rve_rod/data/weeger_group_rve) and the paper's text.
 
     .venv/bin/python benchmarks/paper_rve.py [--stitches 5.5] [--control-points 68]
-        [--bending section] [--figures docs/figures] [--states 20]
+        [--bending section] [--contact-lumping point] [--figures docs/figures] [--states 20]
 
 About 15 minutes on one core at 68 control points, 3 at 28.
 """
@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
+from rve_rod.contact.model import LUMPINGS, ContactOptions
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.paper_comparison import TARGET, compare_run, uniaxial_comparison
@@ -42,6 +43,9 @@ def arguments():
     parser.add_argument("--control-points", type=int, default=CellSettings().control_points)
     parser.add_argument("--bending", choices=BENDING_CHOICES, default="auto")
     parser.add_argument("--second-moment", choices=("solid", "paper"), default="solid")
+    parser.add_argument(
+        "--contact-lumping", choices=LUMPINGS, default="line", help="ContactOptions.lumping"
+    )
     parser.add_argument("--states", type=int, default=None, help="at most this many per run")
     parser.add_argument("--figures", type=Path, default=None, help="folder for the figures")
     parser.add_argument("--suffix", default="", help="appended to the figure names")
@@ -51,12 +55,16 @@ def arguments():
 def main():
     args = arguments()
     settings = RveSettings(
-        cell=CellSettings(control_points=args.control_points),
+        cell=CellSettings(
+            control_points=args.control_points,
+            contact=ContactOptions(lumping=args.contact_lumping),
+        ),
         yarn=YarnSettings(bending=args.bending, second_moment=args.second_moment),
     )
     print(
         f"settings: {args.control_points} control points, bending {args.bending}, "
-        f"second moment {args.second_moment}; target: every converged state within "
+        f"second moment {args.second_moment}, contact lumping {args.contact_lumping}; "
+        f"target: every converged state within "
         f"{TARGET:.0%} of the run's largest stress\n"
     )
     summary = []
@@ -190,7 +198,8 @@ def plot(stitch, runs, shear, uniaxial, args) -> Figure:
     axes[15].axis("off")
     figure.suptitle(
         f"cotton 20s/2 stitch {stitch:g}: the paper group's RVE (dots; hollow: not converged) "
-        f"and ours (lines; {args.control_points} control points, bending {args.bending})"
+        f"and ours (lines; {args.control_points} control points, bending {args.bending}, "
+        f"contact lumping {args.contact_lumping})"
     )
     return figure
 

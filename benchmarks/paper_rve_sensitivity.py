@@ -8,8 +8,9 @@ the mean error at the first state, which measures the stiffness at rest), their 
 shear (the error at their state 6, 20 degrees, and 12, 40 degrees), and the uniaxial forces and
 Poisson ratios at 20 % against their readings. The last rows combine ingredients; the rows
 "prestrain" and "natural length" are the taut-loop experiment (a yarn shorter than its loop,
-`YarnSettings.prestrain`; docs/validation.md, "The taut loop"). The table goes into
-docs/validation.md ("The paper group's RVE").
+`YarnSettings.prestrain`; docs/validation.md, "The taut loop"), the row "point loads" the
+reading of the law as a force at each collocation point (`ContactOptions.lumping`). The table
+goes into docs/validation.md ("The paper group's RVE").
 
     .venv/bin/python benchmarks/paper_rve_sensitivity.py [--control-points 28]
         [--stitches 4.5,5.5,6.5] [--only NAME ...]
@@ -25,6 +26,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from rve_rod.contact import ContactOptions
 from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.loop import single_jersey_loop
 from rve_rod.presets import Fabric, load_preset
@@ -37,12 +39,14 @@ from rve_rod.rve.yarn import YarnModel, YarnSettings, yarn_model
 
 
 class Variant(NamedTuple):
-    """One row: its name, YarnSettings fields, and changes of the yarn model or the loop."""
+    """One row: its name, YarnSettings fields, changes of the yarn model or the loop, and the
+    contact's lumping (`ContactOptions.lumping`)."""
 
     name: str
     yarn_settings: dict
     yarn: Callable[[YarnModel], YarnModel] | None = None
     profile: str = "band"
+    lumping: str = "line"
 
 
 def with_exponent(exponent: float) -> Callable[[YarnModel], YarnModel]:
@@ -92,6 +96,8 @@ VARIANTS = (
         "free fibres, contact at r0 and prestrain eps0 = 2 %",
         {**FIBRES, "contact_radius": "measured", "prestrain": 0.02},
     ),
+    Variant("section, point loads r f_n at the collocation points", SECTION, lumping="point"),
+    Variant("free fibres, point loads r f_n at the collocation points", FIBRES, lumping="point"),
 )
 
 
@@ -126,7 +132,9 @@ def runner(variant: Variant) -> Callable[[Fabric, LoadCase, RveSettings], object
 
 def measure(variant: Variant, stitch: float, control_points: int) -> dict:
     settings = RveSettings(
-        cell=CellSettings(control_points=control_points),
+        cell=CellSettings(
+            control_points=control_points, contact=ContactOptions(lumping=variant.lumping)
+        ),
         yarn=YarnSettings(**variant.yarn_settings),
     )
     fabric = load_preset("cotton-20s2", stitch)

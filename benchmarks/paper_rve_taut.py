@@ -12,11 +12,13 @@ shape). The tables go into docs/validation.md ("The paper group's RVE", the taut
 `--contact-radius measured` adds the squeeze of the contacts at rest
 (`YarnSettings.contact_radius`), alone (eps0 = 0) or with the prestrain;
 `--contact-stiffness-factor` changes the contact law's stiffness (the 0.01 of k = 0.01 E0
-(r0/r)^8): how much of the prestrain a stiffer contact holds.
+(r0/r)^8): how much of the prestrain a stiffer contact holds; `--contact-lumping point` applies
+the law as a force at each collocation point (`ContactOptions.lumping`).
 
     .venv/bin/python benchmarks/paper_rve_taut.py [--stitches 4.5,5.5,6.5]
         [--prestrains 0,0.01,0.02,0.04,0.08] [--contact-radius adjusted]
-        [--contact-stiffness-factor 0.01] [--control-points 28] [--figure PATH]
+        [--contact-stiffness-factor 0.01] [--contact-lumping line] [--control-points 28]
+        [--figure PATH]
 
 About 5 s per row of the first table, 10-30 s per row of the second, on a quiet core.
 """
@@ -28,6 +30,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from rve_rod.contact.law import DEFAULT_STIFFNESS_FACTOR
+from rve_rod.contact.model import LUMPINGS, ContactOptions
 from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
@@ -50,12 +53,18 @@ def secant_at_rest(rays: list[GroupRun], stresses: np.ndarray) -> np.ndarray:
     return np.linalg.solve(strains, stresses).T
 
 
-def measure(stitch: float, prestrain: float, yarn: dict, control_points: int) -> dict:
-    """The row of one stitch value and prestrain; `yarn`: further YarnSettings fields."""
-    settings = RveSettings(
-        cell=CellSettings(control_points=control_points),
+def rve_settings(prestrain: float, yarn: dict, control_points: int, lumping: str) -> RveSettings:
+    """Free-fibre bending with the prestrain, further YarnSettings fields `yarn`, and the
+    contact's lumping (`ContactOptions.lumping`)."""
+    return RveSettings(
+        cell=CellSettings(control_points=control_points, contact=ContactOptions(lumping=lumping)),
         yarn=YarnSettings(bending="free-fibres", prestrain=prestrain, **yarn),
     )
+
+
+def measure(stitch: float, prestrain: float, yarn: dict, control_points: int, lumping: str) -> dict:
+    """The row of one stitch value and prestrain; `yarn`: further YarnSettings fields."""
+    settings = rve_settings(prestrain, yarn, control_points, lumping)
     fabric = load_preset("cotton-20s2", stitch)
     cell = build_cell(loop_curves(fabric), fabric, BiaxialRay(steps=2), settings)
     rest = cell.rest_state(settings.newton, settings.stepping)
@@ -80,15 +89,14 @@ def measure(stitch: float, prestrain: float, yarn: dict, control_points: int) ->
     }
 
 
-def along_equibiaxial(stitch: float, prestrain: float, yarn: dict, control_points: int) -> dict:
+def along_equibiaxial(
+    stitch: float, prestrain: float, yarn: dict, control_points: int, lumping: str
+) -> dict:
     """Our cell along the group's equibiaxial ray to its last converged state (or as far as
     ours gets): S there, ours and theirs, and how the cell took the stretch: the yarn's
     elongation from rest (its length per loop from the centreline) against the affine one (the
     template's centreline mapped by F), and the largest contact penetration."""
-    settings = RveSettings(
-        cell=CellSettings(control_points=control_points),
-        yarn=YarnSettings(bending="free-fibres", prestrain=prestrain, **yarn),
-    )
+    settings = rve_settings(prestrain, yarn, control_points, lumping)
     fabric = load_preset("cotton-20s2", stitch)
     ray = min(biaxial_rays(stitch), key=lambda ray: abs(ray.angle_deg - 45.0))
     result = run_or_history(fabric, run_case(ray, ray.converged), settings)
@@ -172,6 +180,7 @@ def main():
     parser.add_argument("--contact-radius", choices=CONTACT_RADII, default="adjusted")
     parser.add_argument("--contact-stiffness-factor", type=float, default=DEFAULT_STIFFNESS_FACTOR)
     parser.add_argument("--control-points", type=int, default=28)
+    parser.add_argument("--contact-lumping", choices=LUMPINGS, default="line")
     parser.add_argument("--figure", type=Path, help="PNG of the equibiaxial runs")
     args = parser.parse_args()
     print(
@@ -185,7 +194,7 @@ def main():
                 "contact_radius": args.contact_radius,
                 "contact_stiffness_factor": args.contact_stiffness_factor,
             }
-            row = measure(stitch, prestrain, yarn, args.control_points)
+            row = measure(stitch, prestrain, yarn, args.control_points, args.contact_lumping)
             mean, low, high = (1e3 * f for f in row["force"])
             print(
                 f"| {stitch:g} | {100 * prestrain:g} % | {1e3 * row['held']:.0f} | "
@@ -203,7 +212,7 @@ def main():
     for stitch in (float(s) for s in args.stitches.split(",")):
         for prestrain in (float(e) for e in args.prestrains.split(",")):
             row = rows[(stitch, prestrain)] = along_equibiaxial(
-                stitch, prestrain, yarn, args.control_points
+                stitch, prestrain, yarn, args.control_points, args.contact_lumping
             )
             print(
                 f"| {stitch:g} | {100 * prestrain:g} % | {row['strain']:.3f} | "

@@ -70,6 +70,9 @@ logger = logging.getLogger(__name__)
 DEFORMATION_COMPONENTS = ("F11", "F12", "F21", "F22")
 """Columns of `ContactResult.deformation_jacobian`."""
 
+LUMPINGS = ("line", "point")
+"""How the law's value acts on a slave point (`ContactOptions.lumping`)."""
+
 
 @dataclass(frozen=True)
 class ContactOptions:
@@ -88,6 +91,12 @@ class ContactOptions:
         max_image_shift: largest |i|, |j| of the lattice images searched (default 3).
         spans_per_box: consecutive knot spans bounded by one box in the broad phase (default
             8; 1 is one box per span). Changes the cost only, never the result.
+        lumping: how the law acts at a slave point, one of LUMPINGS. "line" (default): the
+            law's f_n(g) is the line load (N/mm) at the point. "point": r f_n(g) =
+            k r^2/p (g/r)^p is a force (N) at the point, applied as the line load
+            r f_n(g) / h_i with h_i the point's collocation weight (mm), friction scaled with
+            it (k_t r N/mm per mm of slip); an experiment (docs/validation.md, issue 27),
+            whose stiffness depends on the discretization through r / h_i.
     """
 
     search_margin: float | None = None
@@ -95,6 +104,7 @@ class ContactOptions:
     region_arc_length: float | None = None
     max_image_shift: int = 3
     spans_per_box: int = 8
+    lumping: str = "line"
 
     def __post_init__(self):
         if self.search_margin is not None:
@@ -105,6 +115,10 @@ class ContactOptions:
             check_positive("region_arc_length", self.region_arc_length, "mm")
         check_integer("max_image_shift", self.max_image_shift, 1, 100)
         check_integer("spans_per_box", self.spans_per_box, 1)
+        if self.lumping not in LUMPINGS:
+            raise InputError(
+                f"lumping={self.lumping!r} is unknown; valid: {', '.join(map(repr, LUMPINGS))}"
+            )
 
 
 class ContactStatistics(NamedTuple):
@@ -377,6 +391,8 @@ class ContactModel:
         trial_history = None
         if self.friction is not None:
             trial_history = self._trial_history(detected, active_rows, loads)
+        if self.options.lumping == "point":
+            loads = _as_point_forces(loads, radius / layout.collocation_weights[active.slave])
         weight = regions.weight[active_rows]
         weighted = loads._replace(
             load=loads.load * weight,
@@ -745,6 +761,19 @@ def _per_point(per_contact: _ContactDerivatives, slave: np.ndarray, n_points: in
         slave, per_contact.deformation.reshape(3, k, 4).transpose(0, 2, 1).reshape(12, k), n_points
     )
     return jacobian, deformation.reshape(3, 4, -1).transpose(0, 2, 1).reshape(-1, 4)
+
+
+def _as_point_forces(loads: ContactLoads, scale: np.ndarray) -> ContactLoads:
+    """The loads of `ContactOptions.lumping = "point"`: each contact's line load, friction and
+    derivative blocks times scale = r / h_i (k,), i.e. the force r l at the slave point spread
+    over its collocation weight h_i. Stick or slip and the elastic slip do not change (the
+    normal force and the tangential stiffness scale together)."""
+    return loads._replace(
+        load=loads.load * scale,
+        normal_force=loads.normal_force * scale,
+        friction_load=loads.friction_load * scale,
+        blocks=loads.blocks * scale,
+    )
 
 
 def _sum_per_point(points: np.ndarray, values: np.ndarray, n_points: int) -> np.ndarray:

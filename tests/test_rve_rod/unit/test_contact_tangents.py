@@ -7,10 +7,12 @@ from support.contact_scenes import knit_loop, wrapped_rods
 from rve_rod.contact import (
     CompressibleYarnLaw,
     ContactModel,
+    ContactOptions,
     CoulombFriction,
     Patch,
     YarnChain,
 )
+from rve_rod.errors import InputError
 from rve_rod.geometry.bspline import greville_abscissae, open_knot_vector
 
 STEP = 1e-7
@@ -216,3 +218,89 @@ def test_shared_minima_tangent_with_images_under_shear(friction, state, tilt):
     fd_positions, fd_deformation = finite_difference_jacobians(model, positions, deformation)
     assert_relative(result.jacobian.toarray(), fd_positions)
     assert_relative(result.deformation_jacobian, fd_deformation)
+
+
+@pytest.mark.parametrize(
+    ("friction", "state"),
+    [
+        (None, "normal"),
+        (CoulombFriction(coefficient=10.0, tangential_stiffness=0.3), "stick"),
+        (CoulombFriction(coefficient=0.05, tangential_stiffness=30.0), "slip"),
+    ],
+)
+def test_point_lumping_tangent_and_scale(cotton_loop, friction, state):
+    """`lumping="point"`: the force r f_n at each slave point spread over its collocation
+    weight h_i. The loads, friction and stick/slip states are the line lumping's times r / h_i
+    point by point, and the tangent (positions and F) matches central differences."""
+    scene = knit_loop(cotton_loop, 12)
+    radius = cotton_loop.yarn_radius
+    law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=radius)
+
+    def model(lumping):
+        return ContactModel(
+            scene.patches,
+            scene.positions,
+            law,
+            friction=friction,
+            lattice=scene.lattice,
+            options=ContactOptions(lumping=lumping),
+        )
+
+    line, point = model("line"), model("point")
+    deformation = np.array([[0.96, 0.04, 0.0], [0.02, 0.95, 0.0], [0.0, 0.0, 1.0]])
+    positions = scene.positions @ deformation.T
+    positions += 0.004 * np.random.default_rng(5).normal(size=positions.shape)
+    by_line = line.evaluate(positions, deformation)
+    result = point.evaluate(positions, deformation)
+    stats = result.statistics
+    assert stats.active_contacts > 20
+    anchored = stats.active_contacts - stats.without_anchor
+    if state == "stick":
+        assert stats.sticking >= 0.9 * anchored > 0
+    if state == "slip":
+        assert stats.sliding >= 0.9 * anchored > 0
+    assert stats == by_line.statistics
+    scale = radius / point.collocation_weights
+    assert np.all(scale > 0.5)  # r / h_i: the weights are positive, a few times r at most
+    np.testing.assert_allclose(result.line_load, by_line.line_load * scale, rtol=1e-13, atol=0)
+    m = point.n_collocation_points
+    line_jacobian = by_line.jacobian.toarray()
+    np.testing.assert_allclose(
+        result.jacobian.toarray(),
+        line_jacobian * np.tile(scale, 3)[:, None],
+        rtol=1e-12,
+        atol=1e-12 * np.abs(line_jacobian).max(),
+    )
+    assert result.deformation_jacobian.shape == (3 * m, 4)
+    fd_positions, fd_deformation = finite_difference_jacobians(point, positions, deformation)
+    assert_relative(result.jacobian.toarray(), fd_positions)
+    assert_relative(result.deformation_jacobian, fd_deformation)
+
+
+def test_point_lumping_tangent_of_shared_minima():
+    """The region weights' derivatives are scaled with the loads (`lumping="point"`)."""
+    scene = wrapped_rods(tilt=0.012, periodic=True)
+    model = ContactModel(
+        scene.patches,
+        scene.positions,
+        LAW,
+        friction=CoulombFriction(coefficient=0.05, tangential_stiffness=10.0),
+        yarns=scene.yarns,
+        lattice=scene.lattice,
+        options=ContactOptions(lumping="point"),
+    )
+    deformation = np.array([[1.02, 0.004, 0.0], [0.003, 1.002, 0.0], [0.0, 0.0, 1.0]])
+    positions = scene.positions + 0.001 * np.random.default_rng(3).normal(
+        size=scene.positions.shape
+    )
+    result = model.evaluate(positions, deformation)
+    weight = result.contacts.weight
+    assert np.count_nonzero((weight > 0.05) & (weight < 0.95)) >= 2
+    fd_positions, fd_deformation = finite_difference_jacobians(model, positions, deformation)
+    assert_relative(result.jacobian.toarray(), fd_positions)
+    assert_relative(result.deformation_jacobian, fd_deformation)
+
+
+def test_unknown_lumping_is_refused():
+    with pytest.raises(InputError, match="lumping='lumped' is unknown; valid: 'line', 'point'"):
+        ContactOptions(lumping="lumped")

@@ -7,7 +7,7 @@ import pytest
 import scipy.integrate
 from support.contact_scenes import crossed_rods
 
-from rve_rod.contact import CompressibleYarnLaw, ContactModel, Patch, YarnChain
+from rve_rod.contact import CompressibleYarnLaw, ContactModel, ContactOptions, Patch, YarnChain
 from rve_rod.contact import _kernels as contact_kernels
 from rve_rod.geometry.bspline import greville_abscissae, interpolate, open_knot_vector
 
@@ -166,3 +166,33 @@ def test_a_run_evaluates_the_one_law_function(monkeypatch):
     assert abs(original[2] - 7.0 * penetration) > 0.1 * original[2]
     np.testing.assert_allclose(load, [0.0, 0.0, 7.0 * penetration], rtol=1e-12, atol=1e-15)
     assert lift_stiffness == pytest.approx(-7.0, rel=1e-10)
+
+
+@pytest.mark.parametrize("n_control_points", [41, 81])
+def test_point_lumping_puts_the_law_as_a_force_at_the_collocation_point(n_control_points):
+    # lumping="point": the force at rod 0's middle collocation point (above the crossing,
+    # d = separation) is F = k r^2/p (g/r)^p (N), written out here, applied as the line load
+    # F / h with h its collocation weight, whatever the mesh; the line lumping's force there is
+    # f_n h = F h / r, which halves with h.
+    penetration, (k, p) = 0.03, (5.0, 1.5)
+    law = CompressibleYarnLaw(stiffness=k, exponent=p, yarn_radius=RADIUS)
+    scene = crossed_rods(2 * RADIUS - penetration, n_control_points=n_control_points)
+    middle = n_control_points // 2
+    force = k * RADIUS**2 / p * (penetration / RADIUS) ** p
+
+    def force_at_the_crossing(lumping):
+        model = ContactModel(
+            scene.patches,
+            scene.positions,
+            law,
+            yarns=scene.yarns,
+            options=ContactOptions(lumping=lumping),
+        )
+        weight = model.collocation_weights[middle]
+        return model.evaluate(scene.positions).line_load[:, middle] * weight, weight
+
+    point, weight = force_at_the_crossing("point")
+    np.testing.assert_allclose(point, [0.0, 0.0, force], rtol=1e-12, atol=1e-15)
+    line, _ = force_at_the_crossing("line")
+    np.testing.assert_allclose(line, [0.0, 0.0, force * weight / RADIUS], rtol=1e-12, atol=1e-15)
+    assert weight == pytest.approx(2.0 / (n_control_points - 1), rel=0.1)
