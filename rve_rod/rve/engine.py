@@ -5,6 +5,7 @@ gives the settings the pipeline's levels and `rve-rod surface` use for a fabric 
 two share cached runs)."""
 
 import dataclasses
+import functools
 from dataclasses import dataclass, field
 
 from rve_rod.errors import ConvergenceError
@@ -15,14 +16,27 @@ from rve_rod.presets import Fabric
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase, Shear, UniaxialCourse, UniaxialWale
 from rve_rod.rve.simulation import RveSettings, simulate
-from rve_rod.rve.yarn import OPTIONS_OFF, YarnSettings, bending_model, check_bending
+from rve_rod.rve.yarn import YarnSettings, bending_model, check_bending
 
 __all__ = [
+    "EXPERIMENTS_OFF",
     "RodRve",
     "fabric_settings",
     "path_case",
     "surface_engine",
 ]
+
+EXPERIMENTS_OFF = {
+    ("yarn", "prestrain"): 0.0,
+    ("yarn", "natural_length"): "template",
+    ("cell", "contact", "lumping"): "line",
+}
+"""Settings of issue 27's experiments (the taut loop: `YarnSettings.prestrain`,
+`natural_length`; the point-load reading of the contact law: `ContactOptions.lumping`), by
+their path in `RveSettings`, and the values that switch them off (the model as it was before
+them, bit for bit): left out of the RVE's cache identity at these values
+(`RodRve.cache_identity`), so that the runs and surfaces cached before the fields existed
+(the shipped surface among them) stay valid."""
 
 
 def path_case(load) -> LoadCase:
@@ -51,15 +65,15 @@ class RodRve:
         """The engine and its settings as `engine_identity` gives them, without the linear
         solver's (`rve_rod.newton.LINEAR_SOLVER_OPTIONS`): those change the cost of a run, not
         its results beyond round-off, so cached runs and surfaces stay valid when they are
-        tuned; and without the yarn's experiment options where they are off
-        (`rve_rod.rve.yarn.OPTIONS_OFF`)."""
+        tuned; and without the experiment options where they are off (`EXPERIMENTS_OFF`)."""
         settings = dataclasses.asdict(self)
         for name in LINEAR_SOLVER_OPTIONS:
             del settings["settings"]["newton"][name]
-        yarn = settings["settings"]["yarn"]
-        for name, off in OPTIONS_OFF.items():
-            if yarn[name] == off:
-                del yarn[name]
+        for path, off in EXPERIMENTS_OFF.items():
+            *tables, name = path
+            table = functools.reduce(dict.__getitem__, tables, settings["settings"])
+            if table[name] == off:
+                del table[name]
         return {"engine": f"{RodRve.__module__}.{RodRve.__qualname__}", "settings": settings}
 
     def __call__(self, case: RveCase) -> RveRun:

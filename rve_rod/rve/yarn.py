@@ -42,7 +42,6 @@ __all__ = [
     "BENDING_MODELS",
     "CONTACT_RADII",
     "NATURAL_LENGTHS",
-    "OPTIONS_OFF",
     "PRESTRAIN_LIMIT",
     "YarnModel",
     "YarnSettings",
@@ -75,11 +74,6 @@ yarn length L, natural length L / (1 + eps0); "measured", the fabric's measured 
 natural length l / (1 + eps0): the rod's prestrain is then (1 + eps0) L / l - 1, larger where
 the template holds more yarn than the fabric (`rve_rod.rve.cell.LoopCell.prestrain`)."""
 
-OPTIONS_OFF = {"prestrain": 0.0, "natural_length": "template"}
-"""YarnSettings fields of the taut-loop experiment (issue 27) and the values that switch it
-off (the model as it was before them, bit for bit): left out of the RVE's cache identity at
-these values (`rve_rod.rve.engine.RodRve.cache_identity`), so that the runs and surfaces
-cached before the fields existed stay valid."""
 
 PRESTRAIN_LIMIT = 0.2
 """Largest yarn prestrain eps0 accepted (-); the experiments of docs/validation.md ("The taut

@@ -141,3 +141,12 @@ def test_the_taut_loop_options_enter_the_cache_identity_only_when_on():
         assert other != identity
         ((name, value),) = change.items()
         assert other["settings"]["settings"]["yarn"][name] == value
+
+
+def test_the_point_load_contact_enters_the_cache_identity_only_when_on():
+    identity = engine.RodRve(COARSE).cache_identity()
+    assert "lumping" not in identity["settings"]["settings"]["cell"]["contact"]
+    contact = dataclasses.replace(COARSE.cell.contact, lumping="point")
+    pointed = dataclasses.replace(COARSE, cell=dataclasses.replace(COARSE.cell, contact=contact))
+    other = engine.RodRve(pointed).cache_identity()
+    assert other["settings"]["settings"]["cell"]["contact"]["lumping"] == "point"
