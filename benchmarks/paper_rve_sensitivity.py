@@ -15,7 +15,8 @@ goes into docs/validation.md ("The paper group's RVE").
     .venv/bin/python benchmarks/paper_rve_sensitivity.py [--control-points 28]
         [--stitches 4.5,5.5,6.5] [--only NAME ...]
 
-About 3 minutes per row at 28 control points on a quiet core.
+A row (three stitch values) took 6-60 s at 28 control points and 30-340 s at 68-132 on the
+shared 2-core machine (2026-11-27, after issue 29).
 """
 
 import argparse
