@@ -90,14 +90,15 @@ def test_crossed_rods_tangent(friction, shift, state):
     assert_relative(result.jacobian.toarray(), fd_positions)
 
 
-@pytest.mark.parametrize(
-    ("friction", "state"),
-    [
-        (None, "normal"),
-        (CoulombFriction(coefficient=10.0, tangential_stiffness=0.3), "stick"),
-        (CoulombFriction(coefficient=0.05, tangential_stiffness=30.0), "slip"),
-    ],
-)
+KNIT_CELL_STATES = [
+    (None, "normal"),
+    (CoulombFriction(coefficient=10.0, tangential_stiffness=0.3), "stick"),
+    (CoulombFriction(coefficient=0.05, tangential_stiffness=30.0), "slip"),
+]
+"""Friction laws that put every active contact of the knit cells below in one state."""
+
+
+@pytest.mark.parametrize(("friction", "state"), KNIT_CELL_STATES)
 def test_knit_cell_tangent_with_images_under_shear(cotton_loop, friction, state):
     # The cotton loop and its images mapped by a compressive shear F (as built they only
     # touch), the control points then perturbed.
@@ -220,14 +221,7 @@ def test_shared_minima_tangent_with_images_under_shear(friction, state, tilt):
     assert_relative(result.deformation_jacobian, fd_deformation)
 
 
-@pytest.mark.parametrize(
-    ("friction", "state"),
-    [
-        (None, "normal"),
-        (CoulombFriction(coefficient=10.0, tangential_stiffness=0.3), "stick"),
-        (CoulombFriction(coefficient=0.05, tangential_stiffness=30.0), "slip"),
-    ],
-)
+@pytest.mark.parametrize(("friction", "state"), KNIT_CELL_STATES)
 def test_point_lumping_tangent_and_scale(cotton_loop, friction, state):
     """`lumping="point"`: the force r f_n at each slave point spread over its collocation
     weight h_i. The loads, friction and stick/slip states are the line lumping's times r / h_i
