@@ -9,8 +9,11 @@ shear (the error at their state 6, 20 degrees, and 12, 40 degrees), and the unia
 Poisson ratios at 20 % against their readings. The last rows combine ingredients; the rows
 "prestrain" and "natural length" are the taut-loop experiment (a yarn shorter than its loop,
 `YarnSettings.prestrain`; docs/validation.md, "The taut loop"), the row "point loads" the
-reading of the law as a force at each collocation point (`ContactOptions.lumping`). The table
-goes into docs/validation.md ("The paper group's RVE").
+reading of the law as a force at each collocation point (`ContactOptions.lumping`), the rows
+"natural curvature" and "straight yarn" a yarn that keeps no set
+(`YarnSettings.natural_curvature`), the rows "friction mu" the friction coefficient. The
+table goes into docs/validation.md ("The paper group's RVE"); `benchmarks/paper_rve_trade.py`
+draws it.
 
     .venv/bin/python benchmarks/paper_rve_sensitivity.py [--control-points 28]
         [--stitches 4.5,5.5,6.5] [--only NAME ...]
@@ -27,7 +30,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rve_rod.contact import ContactOptions
+from rve_rod.contact import ContactOptions, CoulombFriction
 from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.loop import single_jersey_loop
 from rve_rod.presets import Fabric, load_preset
@@ -40,21 +43,42 @@ from rve_rod.rve.yarn import YarnModel, YarnSettings, yarn_model
 
 
 class Variant(NamedTuple):
-    """One row: its name, YarnSettings fields, changes of the yarn model or the loop, and the
-    contact's lumping (`ContactOptions.lumping`)."""
+    """One row: its name, YarnSettings fields, changes of the yarn model (a function of the
+    model and the fabric) or the loop, and the contact's lumping (`ContactOptions.lumping`)."""
 
     name: str
     yarn_settings: dict
-    yarn: Callable[[YarnModel], YarnModel] | None = None
+    yarn: Callable[[YarnModel, Fabric], YarnModel] | None = None
     profile: str = "band"
     lumping: str = "line"
 
 
-def with_exponent(exponent: float) -> Callable[[YarnModel], YarnModel]:
-    def change(yarn: YarnModel) -> YarnModel:
+def with_exponent(exponent: float) -> Callable[[YarnModel, Fabric], YarnModel]:
+    def change(yarn: YarnModel, _fabric: Fabric) -> YarnModel:
         return yarn._replace(law=dataclasses.replace(yarn.law, exponent=exponent))
 
     return change
+
+
+def with_friction(
+    coefficient: float, stiffness_ratio: float = 1.0
+) -> Callable[[YarnModel, Fabric], YarnModel]:
+    """The yarn with Coulomb friction of `coefficient` (the preset's cotton: 0.15) and
+    k_t = stiffness_ratio k."""
+
+    def change(yarn: YarnModel, _fabric: Fabric) -> YarnModel:
+        return yarn._replace(
+            friction=CoulombFriction.for_law(yarn.law, coefficient, stiffness_ratio)
+        )
+
+    return change
+
+
+def section_torsion(yarn: YarnModel, fabric: Fabric) -> YarnModel:
+    """The yarn with the solid section's torsional rigidity G_C J (the paper's) in place of
+    its fibres' (the bending stays the fibres')."""
+    torsion = yarn_model(fabric, YarnSettings(bending="section")).section.torsion
+    return yarn._replace(section=dataclasses.replace(yarn.section, torsion=torsion))
 
 
 SECTION = {"bending": "section"}
@@ -97,6 +121,39 @@ VARIANTS = (
         "free fibres, contact at r0 and prestrain eps0 = 2 %",
         {**FIBRES, "contact_radius": "measured", "prestrain": 0.02},
     ),
+    Variant("free fibres, natural curvature half the loop's", {**FIBRES, "natural_curvature": 0.5}),
+    Variant(
+        "free fibres, straight yarn (natural curvature 0)", {**FIBRES, "natural_curvature": 0.0}
+    ),
+    Variant("section, straight yarn (natural curvature 0)", {**SECTION, "natural_curvature": 0.0}),
+    Variant(
+        "free fibres, straight yarn, frictionless",
+        {**FIBRES, "natural_curvature": 0.0, "friction": False},
+    ),
+    Variant(
+        "free fibres, contact at r0, frictionless",
+        {**FIBRES, "contact_radius": "measured", "friction": False},
+    ),
+    Variant(
+        "free fibres, contact at r0, stick stiffness k_t = k / 100",
+        {**FIBRES, "contact_radius": "measured", "friction_stiffness_ratio": 0.01},
+    ),
+    Variant("free fibres bending, the section's torsion", FIBRES, section_torsion),
+    *(
+        Variant(
+            f"free fibres, frictionless, prestrain eps0 = {100 * eps0:g} %",
+            {**FIBRES, "friction": False, "prestrain": eps0},
+        )
+        for eps0 in (0.03, 0.06)
+    ),
+    Variant(
+        "free fibres, contact x3, frictionless",
+        {**FIBRES, "contact_stiffness_factor": 0.03, "friction": False},
+    ),
+    *(
+        Variant(f"free fibres, friction mu = {mu:g}", FIBRES, with_friction(mu))
+        for mu in (0.3, 0.6, 1.2)
+    ),
     Variant("section, point loads r f_n at the collocation points", SECTION, lumping="point"),
     Variant("free fibres, point loads r f_n at the collocation points", FIBRES, lumping="point"),
 )
@@ -121,7 +178,7 @@ def runner(variant: Variant) -> Callable[[Fabric, LoadCase, RveSettings], object
             curves = list(loop.curves)
         yarn = yarn_model(fabric, settings.yarn)
         if variant.yarn is not None:
-            yarn = variant.yarn(yarn)
+            yarn = variant.yarn(yarn, fabric)
         cell = LoopCell(curves, fabric.knit, yarn, case, settings.cell)
         try:
             return run_cell(cell, fabric, settings)

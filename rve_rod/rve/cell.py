@@ -42,7 +42,10 @@ with a prestrain eps0 (`YarnSettings.prestrain`: its natural length 1 / (1 + eps
 loop's, or the measured loop length's with `YarnSettings.natural_length = "measured"`:
 `LoopCell.prestrain`) makes a taut rest state the same way: the prestrain is grown from 0 at
 F = I (with the squeeze, if any), the yarn pulls its loop tight against its contacts, and P0
-is the stress that holds the cell at its measured w and c.
+is the stress that holds the cell at its measured w and c. A yarn whose natural curvature is
+less than the loop's (`YarnSettings.natural_curvature` s < 1: a yarn that keeps no set is
+straight when free) makes a bent rest state: the natural curvature is taken from the loop's
+down to s at F = I, and the contacts hold the yarn's bending moments.
 """
 
 import dataclasses
@@ -293,6 +296,8 @@ class LoopCell:
             self.prestrain = (1.0 + yarn.prestrain) * template / knit.measured_loop_length - 1.0
         if self.prestrain:
             self.model.set_prestrain(self.prestrain)
+        if yarn.natural_curvature != 1.0:
+            self.model.set_natural_curvature(yarn.natural_curvature)
 
     def _offset(self, state: np.ndarray, load_factor: float) -> Offset:
         """x(START) - x(END) = -F a1 and its derivative w.r.t. the free components."""
@@ -328,14 +333,17 @@ class LoopCell:
     def rest_state(self, newton: NewtonOptions, stepping: SteppingOptions) -> np.ndarray:
         """The state the load path starts from (module docstring, "Rest state").
 
-        The reference configuration when the contact law acts at the loop's radius and the
-        yarn has no prestrain; else the squeezed or taut rest state, grown frictionless at
-        F = I in steps of the contact radius from r to the law's and of the prestrain from 0
-        to eps0 together, with cutback (sets `rest_stress`, and makes the rest state's
-        contacts the friction anchors). Raises ConvergenceError if it cannot be grown.
+        The reference configuration when the contact law acts at the loop's radius, the
+        yarn has no prestrain and its natural curvature is the loop's; else the squeezed,
+        taut or bent rest state, grown frictionless at F = I in steps of the contact radius
+        from r to the law's, of the prestrain from 0 to eps0 and of the natural curvature
+        from the loop's to s times it together, with cutback (sets `rest_stress`, and makes
+        the rest state's contacts the friction anchors). Raises ConvergenceError if it
+        cannot be grown.
         """
         law, radius, prestrain = self.yarn.law, self.yarn.radius, self.prestrain
-        if law.yarn_radius <= radius and not prestrain:
+        curvature = self.yarn.natural_curvature
+        if law.yarn_radius <= radius and not prestrain and curvature == 1.0:
             return self.reference_state()
         rest = LoopCell(
             self._curves,
@@ -350,6 +358,7 @@ class LoopCell:
             grown = radius + fraction * (law.yarn_radius - radius)
             rest.coupling.use_law(dataclasses.replace(law, yarn_radius=grown))
             rest.model.set_prestrain(fraction * prestrain)
+            rest.model.set_natural_curvature(1.0 - fraction * (1.0 - curvature))
 
         def evaluate(state, fraction):
             grow(fraction)
@@ -371,7 +380,8 @@ class LoopCell:
             raise ConvergenceError(
                 f"the rest state with contacts squeezed by 2 (r0 - r) = "
                 f"{2 * (law.yarn_radius - radius):.4g} mm and the yarn prestrained by "
-                f"{prestrain:g} was not found: {error}"
+                f"{prestrain:g} and its natural curvature {curvature:g} times the loop's was "
+                f"not found: {error}"
             ) from error
         squeezed = path.steps[-1].state
         evaluate(squeezed, 1.0)  # the full squeeze and prestrain for the rest stress

@@ -22,7 +22,12 @@ From yarn (r0, E0, nu, mu) and knit (w) as design.md states it (Weeger et al.):
   contacts (`rve_rod.rve.cell.LoopCell.rest_state`; docs/validation.md, "The paper group's
   RVE"); with `YarnSettings.natural_length = "measured"` the natural length is the fabric's
   measured loop length l / (1 + eps0) instead, so that a template longer than l is stretched
-  by that much more (`NATURAL_LENGTHS`).
+  by that much more (`NATURAL_LENGTHS`);
+* natural curvature (`YarnSettings.natural_curvature`, s, default 1): the rods' stress-free
+  curvature and twist s times the loop's (`RodModel.set_natural_curvature`): 1, the loop as
+  built is stress-free; 0, a yarn that keeps no set, straight when free, bent into the loop and
+  held there by its contacts (`rve_rod.rve.cell.LoopCell.rest_state`; docs/validation.md,
+  "The straight yarn").
 """
 
 import logging
@@ -96,6 +101,9 @@ class YarnSettings:
         prestrain: eps0, the loop's yarn stretched by eps0 over its natural length, in
             [0, PRESTRAIN_LIMIT] (default 0: the loop as built is stress-free).
         natural_length: one of NATURAL_LENGTHS (default "template").
+        natural_curvature: s in [0, 1], the rods' stress-free curvature and twist as a
+            fraction of the loop's (default 1: the loop as built is stress-free; 0: a
+            naturally straight yarn).
     """
 
     second_moment: str = SOLID_CIRCLE
@@ -107,6 +115,7 @@ class YarnSettings:
     contact_radius: str = "adjusted"
     prestrain: float = 0.0
     natural_length: str = "template"
+    natural_curvature: float = 1.0
 
     def __post_init__(self):
         if self.second_moment not in (SOLID_CIRCLE, PAPER_CIRCLE):
@@ -127,6 +136,7 @@ class YarnSettings:
                 f"{', '.join(CONTACT_RADII)}"
             )
         check_range("prestrain", self.prestrain, 0.0, PRESTRAIN_LIMIT)
+        check_range("natural_curvature", self.natural_curvature, 0.0, 1.0)
         if self.natural_length not in NATURAL_LENGTHS:
             raise InputError(
                 f"natural_length={self.natural_length!r} is unknown; valid: "
@@ -153,6 +163,7 @@ class YarnModel(NamedTuple):
         friction: Coulomb friction, or None (frictionless scene).
         prestrain: eps0 of `YarnSettings.prestrain` (-).
         natural_length: what eps0 is counted from (`YarnSettings.natural_length`).
+        natural_curvature: s of `YarnSettings.natural_curvature` (-).
     """
 
     radius: float
@@ -163,6 +174,7 @@ class YarnModel(NamedTuple):
     friction: CoulombFriction | None
     prestrain: float = 0.0
     natural_length: str = "template"
+    natural_curvature: float = 1.0
 
 
 def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnModel:
@@ -206,6 +218,7 @@ def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnM
         friction=friction,
         prestrain=settings.prestrain,
         natural_length=settings.natural_length,
+        natural_curvature=settings.natural_curvature,
     )
 
 

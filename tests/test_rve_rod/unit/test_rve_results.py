@@ -134,8 +134,9 @@ def test_the_taut_loop_options_enter_the_cache_identity_only_when_on():
     """Off (their defaults) they leave the model as it was, so the runs and surfaces cached
     before they existed stay valid; on, they are part of the identity."""
     identity = engine.RodRve(COARSE).cache_identity()
-    assert not {"prestrain", "natural_length"} & set(identity["settings"]["settings"]["yarn"])
-    for change in ({"prestrain": 0.02}, {"natural_length": "measured"}):
+    yarn = set(identity["settings"]["settings"]["yarn"])
+    assert not {"prestrain", "natural_length", "natural_curvature"} & yarn
+    for change in ({"prestrain": 0.02}, {"natural_length": "measured"}, {"natural_curvature": 0}):
         taut = dataclasses.replace(COARSE, yarn=dataclasses.replace(COARSE.yarn, **change))
         other = engine.RodRve(taut).cache_identity()
         assert other != identity

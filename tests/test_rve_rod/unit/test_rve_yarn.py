@@ -65,6 +65,8 @@ def test_bad_settings_are_refused():
         YarnSettings(prestrain=0.3)
     with pytest.raises(InputError, match="natural_length='spun' is unknown"):
         YarnSettings(natural_length="spun")
+    with pytest.raises(InputError, match=r"natural_curvature=1\.5"):
+        YarnSettings(natural_curvature=1.5)
 
 
 def test_free_fibre_bending_sums_the_cotton_fibres_with_the_pre_tension_scaling():

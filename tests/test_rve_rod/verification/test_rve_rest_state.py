@@ -125,3 +125,32 @@ def test_counted_from_the_measured_loop_length_the_prestrain_is_the_templates_ex
             BiaxialRay(steps=2),
             RveSettings(cell=TAUT.cell, yarn=yarn),
         )
+
+
+def test_a_straight_yarn_bent_into_its_loop_holds_moments_of_its_curvature():
+    """natural_curvature = 0 (a yarn that keeps no set): at the bent rest state the rods'
+    bending moment is EI times the centreline's curvature, m x t = EI t x t' (t' = dt/ds),
+    instead of vanishing where the loop is as built; the contacts hold it, the cell stays at
+    its measured w and c, and the stresses of the path start from the rest stress."""
+    fabric = load_preset("cotton-20s2", 5.5)
+    settings = RveSettings(
+        cell=CellSettings(control_points=28),
+        yarn=YarnSettings(bending="free-fibres", natural_curvature=0.0),
+    )
+    cell = build_cell(loop_curves(fabric), fabric, BiaxialRay(steps=2), settings)
+    rest = cell.rest_state(settings.newton, settings.stepping)
+    moment = cell.model.evaluate(rest, 0.0, with_jacobian=False).section.moment.T
+    deformed = BSplineCurve(cell.curve.degree, cell.curve.knots, cell.positions(rest))
+    parameters = cell.model.collocation[0].parameters
+    first, second = deformed(parameters, 1), deformed(parameters, 2)
+    speed = np.linalg.norm(first, axis=1)[:, None]
+    tangent = first / speed
+    bend = np.cross(first, second) / speed**3  # t x dt/ds, the curvature vector's binormal
+    rigidity = cell.yarn.section.bending_1
+    assert cell.yarn.section.bending_2 == rigidity
+    perpendicular = moment - np.sum(moment * tangent, axis=1)[:, None] * tangent
+    weights = cell.model.tributary_lengths
+    error = np.linalg.norm(perpendicular - rigidity * bend, axis=1)
+    scale = np.linalg.norm(rigidity * bend, axis=1)
+    assert np.sum(error * weights) < 0.05 * np.sum(scale * weights)
+    assert n_per_mm_to_gf_per_cm(np.abs(cell.rest_stress)).max() > 0.5
