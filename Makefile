@@ -23,8 +23,10 @@ lint: bootstrap
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 
+# two workers (pytest-xdist), one per core of the CI machines; a module's tests stay on one
+# worker, so its module-scoped fixtures are computed once
 test: lint
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest -n 2 --dist loadscope
 
 format: bootstrap
 	$(BIN)/ruff format .
