@@ -24,21 +24,30 @@ shared 2-core machine (2026-11-27, after issue 29).
 
 import argparse
 import dataclasses
+import functools
 import time
 from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
 
+from rve_rod import units
 from rve_rod.contact import ContactOptions, CoulombFriction
 from rve_rod.errors import ConvergenceError
+from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.geometry.loop import single_jersey_loop
 from rve_rod.presets import Fabric, load_preset
 from rve_rod.rve.cell import CellSettings, LoopCell
-from rve_rod.rve.load_cases import LoadCase
-from rve_rod.rve.paper_comparison import compare_run, run_or_history, uniaxial_comparison
+from rve_rod.rve.load_cases import BiaxialRay, LoadCase
+from rve_rod.rve.paper_comparison import (
+    AXIS_RAYS,
+    compare_run,
+    run_or_history,
+    secant_at_rest,
+    uniaxial_comparison,
+)
 from rve_rod.rve.paper_data import UNIAXIAL_READINGS, biaxial_rays, shear_run
-from rve_rod.rve.simulation import RveSettings, loop_curves, run_cell
+from rve_rod.rve.simulation import RveSettings, build_cell, loop_curves, run_cell
 from rve_rod.rve.yarn import YarnModel, YarnSettings, yarn_model
 
 
@@ -154,9 +163,51 @@ VARIANTS = (
         Variant(f"free fibres, friction mu = {mu:g}", FIBRES, with_friction(mu))
         for mu in (0.3, 0.6, 1.2)
     ),
+    Variant("free fibres, tightened loop", FIBRES, profile="tightened"),
+    Variant(
+        "free fibres, tightened loop, frictionless",
+        {**FIBRES, "friction": False},
+        profile="tightened",
+    ),
     Variant("section, point loads r f_n at the collocation points", SECTION, lumping="point"),
     Variant("free fibres, point loads r f_n at the collocation points", FIBRES, lumping="point"),
 )
+
+
+TIGHTENING = {"prestrain": 0.04, "contact_stiffness_factor": 0.03, "friction": False}
+"""How the "tightened" loop is pulled tight: the yarn's natural length 4 % short, the contact
+three times stiffer, frictionless (2 % with the contact x3 and 5 % with x10 found no rest
+state at 5.5)."""
+
+
+@functools.cache
+def tightened_loop(stitch: float, control_points: int) -> tuple[list[BSplineCurve], float]:
+    """The template of cotton `stitch` pulled tight at its measured w and c (TIGHTENING, at
+    F = I: `LoopCell.rest_state`), as 4 quarter curves from the cut (the pulled shape is the
+    new stress-free loop), and the radius at which its pressed contacts just touch (r minus
+    half the largest penetration: the rest state of the cell built on it grows the contacts
+    back to r, so the loop starts pre-loaded as the squeezed rest does)."""
+    fabric = load_preset("cotton-20s2", stitch)
+    settings = RveSettings(
+        cell=CellSettings(control_points=control_points),
+        yarn=YarnSettings(**FIBRES, **TIGHTENING),
+    )
+    cell = build_cell(loop_curves(fabric), fabric, BiaxialRay(steps=2), settings)
+    rest = cell.rest_state(settings.newton, settings.stepping)
+    pulled = BSplineCurve(cell.curve.degree, cell.curve.knots, cell.positions(rest))
+    penetration = cell.coupling.result(rest, 0.0, tangent=False).statistics.max_penetration
+    quarters, rest_of_loop = [], pulled
+    for parameter in (1.0, 2.0, 3.0):
+        pieces = rest_of_loop.split(parameter)
+        quarters.append(pieces.left)
+        rest_of_loop = pieces.right
+    quarters.append(rest_of_loop)
+    print(
+        f"  tightened {stitch:g}: yarn per loop {cell.curve.arc_length():.4f} -> "
+        f"{pulled.arc_length():.4f} mm, largest penetration {penetration / cell.yarn.radius:.3f} r",
+        flush=True,
+    )
+    return quarters, cell.yarn.radius - 0.5 * penetration - 1e-9
 
 
 def runner(variant: Variant) -> Callable[[Fabric, LoadCase, RveSettings], object]:
@@ -165,7 +216,16 @@ def runner(variant: Variant) -> Callable[[Fabric, LoadCase, RveSettings], object
         return run_or_history
 
     def run(fabric: Fabric, case: LoadCase, settings: RveSettings):
-        if variant.profile == "band":
+        yarn = yarn_model(fabric, settings.yarn)
+        if variant.profile == "tightened":
+            stitch = fabric.knit.stitch_value
+            curves, touching = tightened_loop(stitch, settings.cell.control_points)
+            yarn = yarn._replace(radius=touching)
+            own = max(curve.n_control_points for curve in curves)
+            settings = dataclasses.replace(
+                settings, cell=dataclasses.replace(settings.cell, control_points=own, cut=0.0)
+            )
+        elif variant.profile == "band":
             curves = loop_curves(fabric)
         else:
             knit = fabric.knit
@@ -176,7 +236,6 @@ def runner(variant: Variant) -> Callable[[Fabric, LoadCase, RveSettings], object
                 profile=variant.profile,
             )
             curves = list(loop.curves)
-        yarn = yarn_model(fabric, settings.yarn)
         if variant.yarn is not None:
             yarn = variant.yarn(yarn, fabric)
         cell = LoopCell(curves, fabric.knit, yarn, case, settings.cell)
@@ -197,7 +256,17 @@ def measure(variant: Variant, stitch: float, control_points: int) -> dict:
     )
     fabric = load_preset("cotton-20s2", stitch)
     run = runner(variant)
-    rays = [compare_run(fabric, ray, settings, runner=run) for ray in biaxial_rays(stitch)]
+    theirs = biaxial_rays(stitch)
+    rays = [compare_run(fabric, ray, settings, runner=run) for ray in theirs]
+    axes = [min(range(len(theirs)), key=lambda k: abs(theirs[k].angle_deg - a)) for a in AXIS_RAYS]
+    rest = [
+        secant_at_rest(
+            [theirs[k] for k in axes], [np.diagonal(pair.second_piola[0]) for pair in pairs]
+        )
+        if all(pair.states for pair in pairs)
+        else np.full((2, 2), np.nan)
+        for pairs in ([rays[k] for k in axes], [theirs[k] for k in axes])
+    ]
     rays = [ray for ray in rays if ray.states]
     worst = np.array([ray.worst() for ray in rays])
     first = np.array([ray.errors()[0] for ray in rays])
@@ -210,6 +279,7 @@ def measure(variant: Variant, stitch: float, control_points: int) -> dict:
         "first": float(first[np.isfinite(first)].mean()) if np.isfinite(first).any() else np.nan,
         "shear": (float(shear[5]), float(shear[11])),
         "uniaxial": uniaxial,
+        "rest": rest,
     }
 
 
@@ -248,6 +318,8 @@ def main():
                 f"{time.perf_counter() - started:.0f} |",
                 flush=True,
             )
+            ours, theirs = (units.n_per_mm_to_gf_per_cm(c).round(0).tolist() for c in row["rest"])
+            print(f"  C at rest (gf/cm): ours {ours}, theirs {theirs}", flush=True)
 
 
 if __name__ == "__main__":

@@ -35,22 +35,18 @@ from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import BiaxialRay
-from rve_rod.rve.paper_comparison import compare_run, run_case, run_or_history
-from rve_rod.rve.paper_data import GroupRun, biaxial_rays
+from rve_rod.rve.paper_comparison import (
+    AXIS_RAYS,
+    compare_run,
+    run_case,
+    run_or_history,
+    secant_at_rest,
+)
+from rve_rod.rve.paper_data import biaxial_rays
 from rve_rod.rve.simulation import RveSettings, build_cell, loop_curves
 from rve_rod.rve.yarn import CONTACT_RADII, YarnSettings
 from rve_rod.stress_measures import green_lagrange
 from rve_rod.units import n_per_mm_to_gf_per_cm as gf
-
-AXIS_RAYS = (6.4, 83.6)
-"""The group's rays nearest the course and wale axes (degrees in the strain plane)."""
-
-
-def secant_at_rest(rays: list[GroupRun], stresses: np.ndarray) -> np.ndarray:
-    """(2, 2) C of (S11, S22) = C (E11, E22) through the first states of two rays, given
-    their (2, 2) diagonal stresses S (N/mm) there."""
-    strains = np.array([np.diagonal(green_lagrange(ray.deformation[0])) for ray in rays])
-    return np.linalg.solve(strains, stresses).T
 
 
 def rve_settings(prestrain: float, yarn: dict, control_points: int, lumping: str) -> RveSettings:

@@ -12,7 +12,8 @@ before is not judged by its own tiny value. A run of ours that stops early is co
 got (the rest is NaN and counts as a failure).
 
 `uniaxial_comparison(fabric, settings)` gives our uniaxial course- and wale-wise forces and
-Poisson ratios at the strains of `paper_data.UNIAXIAL_READINGS`.
+Poisson ratios at the strains of `paper_data.UNIAXIAL_READINGS`; `secant_at_rest` the secant
+stiffness at rest through the first states of their two rays nearest the axes (`AXIS_RAYS`).
 """
 
 import time
@@ -26,16 +27,22 @@ from rve_rod.presets import Fabric
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase, PictureFrameShear, load_case
 from rve_rod.rve.paper_data import GroupRun
 from rve_rod.rve.simulation import RveResult, RveSettings, simulate
+from rve_rod.stress_measures import green_lagrange
 
 __all__ = [
+    "AXIS_RAYS",
     "TARGET",
     "RunComparison",
     "UniaxialComparison",
     "compare_run",
     "run_case",
     "run_or_history",
+    "secant_at_rest",
     "uniaxial_comparison",
 ]
+
+AXIS_RAYS = (6.4, 83.6)
+"""The group's rays nearest the course and wale axes (degrees in the strain plane)."""
 
 TARGET = 0.2
 """The target (issue 27): every converged state within 20 % of the run's largest stress."""
@@ -188,3 +195,10 @@ def run_or_history(fabric: Fabric, case: LoadCase, settings: RveSettings) -> Rve
 
 def _symmetric(tensors: np.ndarray) -> np.ndarray:
     return 0.5 * (tensors + np.swapaxes(tensors, -1, -2))
+
+
+def secant_at_rest(rays: list[GroupRun], stresses: np.ndarray) -> np.ndarray:
+    """(2, 2) C of (S11, S22) = C (E11, E22) through the first states of two rays (their Green-
+    Lagrange strains), given the (2,) diagonal stresses S (N/mm) there, one row per ray."""
+    strains = np.array([np.diagonal(green_lagrange(ray.deformation[0])) for ray in rays])
+    return np.linalg.solve(strains, np.asarray(stresses)).T

@@ -4,9 +4,11 @@ import numpy as np
 import pytest
 
 from rve_rod.presets import load_preset
-from rve_rod.rve.paper_comparison import RunComparison, compare_run
+from rve_rod.rve.paper_comparison import AXIS_RAYS, RunComparison, compare_run, secant_at_rest
 from rve_rod.rve.paper_data import biaxial_rays, shear_run
 from rve_rod.rve.simulation import RveSettings
+from rve_rod.stress_measures import green_lagrange
+from rve_rod.units import n_per_mm_to_gf_per_cm
 
 
 class _Step:
@@ -66,3 +68,16 @@ def test_runs_without_converged_states_are_not_compared():
         load_preset("cotton-20s2", 5.5), equibiaxial_compression, RveSettings()
     )
     assert (comparison.states, comparison.worst()) == (0, 0.0)
+
+
+def test_the_secant_at_rest_of_a_linear_material_is_its_stiffness():
+    """S = C E at the first states of their two rays nearest the axes returns C, and their own
+    first states give the stiffness docs/validation.md quotes at 5.5 ([[280, 297], [348, 859]]
+    gf/cm)."""
+    rays = [min(biaxial_rays(5.5), key=lambda ray: abs(ray.angle_deg - a)) for a in AXIS_RAYS]
+    stiffness = np.array([[2.0, 0.7], [0.9, 5.0]])
+    stresses = [stiffness @ np.diagonal(green_lagrange(ray.deformation[0])) for ray in rays]
+    np.testing.assert_allclose(secant_at_rest(rays, stresses), stiffness, rtol=1e-12)
+    theirs = [np.diagonal(ray.second_piola[0]) for ray in rays]
+    secant = n_per_mm_to_gf_per_cm(secant_at_rest(rays, theirs))
+    np.testing.assert_allclose(secant, [[280, 297], [348, 859]], atol=0.5)
