@@ -20,6 +20,7 @@ from rve_rod.rve.yarn import YarnSettings, bending_model, check_bending
 
 __all__ = [
     "EXPERIMENTS_OFF",
+    "SEVERAL_COURSES_ITERATIONS",
     "RodRve",
     "fabric_settings",
     "path_case",
@@ -37,6 +38,18 @@ their path in `RveSettings`, and the values that switch them off (the model as i
 them, bit for bit): left out of the RVE's cache identity at these values
 (`RodRve.cache_identity`), so that the runs and surfaces cached before the fields existed
 (the shipped surface among them) stay valid."""
+
+SEVERAL_COURSES_ITERATIONS = 40
+"""Newton iterations per solve of a cell of several yarn patches (garter, moss; the default is
+25). Its first load step starts from the template, where the contacts only touch and the
+further patches are held by the ties alone (1e-6 EA/c): Newton first looks for the contacts
+that close, moving those soft modes, before it converges quadratically. Moss course-wise at a
+1 % first step needs 31 iterations (36 control points, friction); with 25 it failed, and every
+cutback failed as well: below t = 1e-4 no contact closes, the scaled residual stays at
+round-off (1e-11) and the ties' soft modes (the scaled Jacobian's condition number is 2e15
+at 20 control points) turn it into
+increments of 1e-9, above the increment tolerance, so the path stopped at 0 % (docs/patterns.md,
+"Speed")."""
 
 
 def path_case(load) -> LoadCase:
@@ -102,9 +115,12 @@ def fabric_settings(fabric: Fabric, control_points: int, bending: str = "auto") 
     )
     if smallest_cell(fabric.knit.pattern).courses > 1:
         # several yarn patches: their ties' soft modes need every system factorized anew
-        # (refined solves with older factors meet the linear tolerance and miss those modes:
-        # moss stops at its first step), the linear solver's options, not part of the identity
-        newton = dataclasses.replace(settings.newton, refinement=0)
+        # (refined solves with older factors meet the linear tolerance and miss those modes;
+        # the linear solver's options, not part of the identity), and the first step from the
+        # touching template more Newton iterations (SEVERAL_COURSES_ITERATIONS)
+        newton = dataclasses.replace(
+            settings.newton, refinement=0, max_iterations=SEVERAL_COURSES_ITERATIONS
+        )
         settings = dataclasses.replace(settings, newton=newton)
     return settings
 

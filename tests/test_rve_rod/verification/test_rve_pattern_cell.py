@@ -166,3 +166,18 @@ def test_moss_runs_with_the_settings_of_a_cell_of_several_courses():
     assert result.complete
     assert len(result.curves) == 2
     assert (np.diff(result.series("force_gf_per_cm")) > 0).all()
+
+
+def test_moss_runs_course_wise_from_a_first_step_of_one_percent():
+    """Moss course-wise at 1 % steps (the speed benchmark's path) stopped at 0 %: its first
+    step from the touching template needs 31 Newton iterations, more than the default 25,
+    and every cutback failed (`rve_rod.rve.engine.SEVERAL_COURSES_ITERATIONS`). It runs now,
+    its force grows, and the ties and the lateral regularization carry a negligible share of
+    the stress."""
+    fabric = with_pattern(load_preset("cotton-20s2", 5.5), "moss")
+    result = simulate(fabric, load_case("uniaxial-course", 0.03, 4), fabric_settings(fabric, 36))
+    assert result.complete
+    forces = result.series("force_gf_per_cm")
+    assert (np.diff(forces) > 0).all()
+    loaded = max(abs(step.first_piola[0, 0]) for step in result.steps)
+    assert max(step.regularization for step in result.steps) < 1e-2 * loaded
