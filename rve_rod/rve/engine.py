@@ -46,10 +46,10 @@ further patches are held by the ties alone (1e-6 EA/c): Newton first looks for t
 that close, moving those soft modes, before it converges quadratically. Moss course-wise at a
 1 % first step needs 31 iterations (36 control points, friction); with 25 it failed, and every
 cutback failed as well: below t = 1e-4 no contact closes, the scaled residual stays at
-round-off (1e-11) and the ties' soft modes (the scaled Jacobian's condition number is 2e15
-at 20 control points) turn it into
-increments of 1e-9, above the increment tolerance, so the path stopped at 0 % (docs/patterns.md,
-"Speed")."""
+round-off (1e-11) and the ties' soft modes (the scaled Jacobian's condition number is 2e15 at
+20 control points) turn it into increments of 1e-9, above the increment tolerance, so the path
+stopped at 0 % (docs/patterns.md, "Speed"). Part of the cache identity: the surfaces of such
+patterns are keyed anew (the single-course cells, jersey's among them, keep the default)."""
 
 
 def path_case(load) -> LoadCase:
@@ -105,7 +105,8 @@ def fabric_settings(fabric: Fabric, control_points: int, bending: str = "auto") 
     (`rve_rod.rve.yarn.BENDING_CHOICES`, resolved for the yarn by `bending_model`, so that
     cache keys and surface files name the model that ran); a yarn without friction (mu = 0)
     runs without the friction path (no slip history), everything else at its default (but a
-    pattern's cell of several courses: every linear system factorized anew). Raises
+    pattern's cell of several courses: every linear system factorized anew, and
+    SEVERAL_COURSES_ITERATIONS Newton iterations per solve). Raises
     InputError when the bending model cannot model the fabric's yarn (`check_bending`)."""
     model = bending_model(fabric, bending)
     check_bending(fabric, model)
