@@ -7,7 +7,7 @@ x -> -x (about the head apex) and (x, y) -> (w/2 - x, -y) (about the leg point L
 curves of one loop from sinker to sinker (docs/geometry.md derives the conditions).
 """
 
-from functools import cache
+from functools import cache, lru_cache
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
@@ -103,9 +103,7 @@ def symmetry_conditions(wale_width: float) -> tuple[tuple[SymmetryCondition, ...
 
 def condition_rows(conditions: tuple[SymmetryCondition, ...]) -> np.ndarray:
     """The conditions as rows acting on one coordinate of the quarter's control points, (k, 12)."""
-    rows = _basis_rows([condition.at for condition in conditions])
-    orders = [condition.order for condition in conditions]
-    return rows[orders, np.arange(len(conditions))]
+    return np.array([_rows_at(condition.at)[condition.order] for condition in conditions])
 
 
 def fit_quarter(shape: "LoopShape") -> BSplineCurve:
@@ -136,9 +134,10 @@ def fit_coordinate(values: np.ndarray, conditions: tuple[SymmetryCondition, ...]
     n = CONTROL_POINTS
     k = len(conditions)
     kkt = np.zeros((n + k, n + k))
+    rows = condition_rows(conditions)
     kkt[:n, :n] = design.T @ design
-    kkt[:n, n:] = condition_rows(conditions).T
-    kkt[n:, :n] = condition_rows(conditions)
+    kkt[:n, n:] = rows.T
+    kkt[n:, :n] = rows
     rhs = np.concatenate([design.T @ values, [condition.value for condition in conditions]])
     return np.linalg.solve(kkt, rhs)[:n]
 
@@ -156,6 +155,17 @@ def _basis_rows(params) -> np.ndarray:
     rows = np.zeros((3, basis.spans.size, CONTROL_POINTS))
     columns = basis.spans[:, None] - DEGREE + np.arange(DEGREE + 1)
     rows[:, np.arange(basis.spans.size)[:, None], columns] = basis.values
+    return rows
+
+
+@lru_cache(maxsize=256)
+def _rows_at(at: float) -> np.ndarray:
+    """The basis functions of the quarter and their first two derivatives at the parameter
+    `at`, (3, control points); remembered: the end conditions sit at 0 and 1 in every fit, and
+    the three coordinates of one fit are pinned at the same W (the relaxed cell's searches fit
+    thousands of quarters)."""
+    rows = _basis_rows([at])[:, 0, :]
+    rows.flags.writeable = False
     return rows
 
 

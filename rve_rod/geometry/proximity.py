@@ -198,16 +198,23 @@ def cell_clearance(
     best = CellClearance(np.inf, (0, 0), 0.0, 0.0, (0, 0))
     for m in range(len(yarns)):
         for n in range(m, len(yarns)):
-            shifted = (points[n][None, :, :] + offsets[:, None, :]).reshape(-1, 3)
-            distances = scipy.spatial.distance.cdist(points[m], shifted).reshape(
-                points[m].shape[0], len(images), points[n].shape[0]
+
+            def block(k, m=m, n=n):
+                """Sample distances of yarn m to image k of yarn n, (samples m, samples n)."""
+                distances = scipy.spatial.distance.cdist(points[m], points[n] + offsets[k])
+                i, j = images[k]
+                if m == n and j == 0:  # the same yarn, i periods further on
+                    along = np.abs(arcs[m][:, None] - (arcs[n][None, :] + i * periods[n]))
+                    distances[along < adjacent_arc] = np.inf
+                return distances
+
+            blocks = _near_images(
+                block,
+                _box_gaps(points[m], points[n], offsets),
+                lambda overall: 2 * spacing**2 / max(overall, 1e-300) + 1e-3 * overall,
             )
-            if m == n:
-                for k, (i, j) in enumerate(images):
-                    if j == 0:  # the same yarn, i periods further on
-                        along = np.abs(arcs[m][:, None] - (arcs[n][None, :] + i * periods[n]))
-                        distances[:, k, :][along < adjacent_arc] = np.inf
-            nearest = distances.min(axis=2)
+            far = np.full(points[m].shape[0], np.inf)
+            nearest = np.column_stack([far if b is None else b.min(axis=1) for b in blocks])
             overall = nearest.min()
             if not np.isfinite(overall):
                 continue
@@ -218,7 +225,9 @@ def cell_clearance(
                 & (nearest <= overall + slack)
             )
             rows, columns = np.nonzero(local)
-            partners = np.argmin(distances[rows, columns], axis=1)
+            partners = np.array(
+                [np.argmin(blocks[k][a]) for a, k in zip(rows, columns, strict=True)], dtype=int
+            )
             found, first, second = _refine(
                 _ChainPair(chains[m], chains[n]),
                 params[m][rows],
@@ -241,6 +250,42 @@ def cell_clearance(
                     float(found[k]), (m, n), float(first[k]), float(second[k]), images[columns[k]]
                 )
     return best
+
+
+def _box_gaps(first: np.ndarray, second: np.ndarray, offsets: np.ndarray) -> np.ndarray:
+    """A lower bound of the distance between the points `first` (a, 3) and each image of
+    `second` (b, 3) shifted by `offsets` (k, 3): the gaps between their bounding boxes, less a
+    round-off margin, (k,) (mm)."""
+    low, high = first.min(axis=0), first.max(axis=0)
+    shifted_low = second.min(axis=0) + offsets
+    shifted_high = second.max(axis=0) + offsets
+    gaps = np.maximum(np.maximum(shifted_low - high, low - shifted_high), 0.0)
+    scale = np.abs(np.concatenate([first, second])).max() + np.abs(offsets).max()
+    return np.maximum(np.linalg.norm(gaps, axis=1) - 1e-9 * scale, 0.0)
+
+
+def _near_images(block, gaps: np.ndarray, slack) -> list[np.ndarray | None]:
+    """The sample distances to each image (`block(k)`), computed only for the images that can
+    hold a pair within the search's reach, overall + slack(overall) (overall: the least sample
+    distance); None for the others, whose distances all exceed it (their bounding boxes'
+    `gaps` do). The least distance lies in the images no farther than the distance found in
+    the nearest box, and an image beyond the reach has no local minimum the search takes: the
+    search finds what it finds computing every image."""
+    blocks: list[np.ndarray | None] = [None] * gaps.size
+
+    def compute(chosen) -> float:
+        for k in np.flatnonzero(chosen):
+            if blocks[k] is None:
+                blocks[k] = block(k)
+        return min((found.min() for found in blocks if found is not None), default=np.inf)
+
+    found = compute(gaps == gaps.min())
+    if not np.isfinite(found):
+        compute(np.ones(gaps.size, dtype=bool))
+        return blocks
+    overall = compute(gaps <= found)
+    compute(gaps <= overall + slack(overall))
+    return blocks
 
 
 def _arc_at(s: np.ndarray, params: np.ndarray, arcs: np.ndarray, period: float) -> np.ndarray:

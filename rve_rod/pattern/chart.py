@@ -113,8 +113,10 @@ class Chart:
         for i, row in enumerate(self.rows):
             for j, code in enumerate(row):
                 if code not in MODELLED_CODES:
+                    name = STITCH_CODES[code]
+                    article = "an" if name[0] in "aeiou" else "a"
                     raise InputError(
-                        f"chart row {i + 1} ({row!r}) has a {STITCH_CODES[code]} ({code!r}) in "
+                        f"chart row {i + 1} ({row!r}) has {article} {name} ({code!r}) in "
                         f"column {j + 1}: the cell does not model it yet; its loops are knit "
                         "(K) and purl (P)"
                     )

@@ -20,6 +20,7 @@ from rve_rod.rve.yarn import YarnSettings, bending_model, check_bending
 
 __all__ = [
     "EXPERIMENTS_OFF",
+    "SEVERAL_COURSES_ITERATIONS",
     "RodRve",
     "fabric_settings",
     "path_case",
@@ -38,6 +39,18 @@ law: `ContactOptions.lumping`), by their path in `RveSettings`, and the values t
 them off (the model as it was before them, bit for bit): left out of the RVE's cache identity
 at these values (`RodRve.cache_identity`), so that the runs and surfaces cached before the
 fields existed (the shipped surface among them) stay valid."""
+
+SEVERAL_COURSES_ITERATIONS = 40
+"""Newton iterations per solve of a cell of several yarn patches (garter, moss; the default is
+25). Its first load step starts from the template, where the contacts only touch and the
+further patches are held by the ties alone (1e-6 EA/c): Newton first looks for the contacts
+that close, moving those soft modes, before it converges quadratically. Moss course-wise at a
+1 % first step needs 31 iterations (36 control points, friction); with 25 it failed, and every
+cutback failed as well: below t = 1e-4 no contact closes, the scaled residual stays at
+round-off (1e-11) and the ties' soft modes (the scaled Jacobian's condition number is 2e15 at
+20 control points) turn it into increments of 1e-9, above the increment tolerance, so the path
+stopped at 0 % (docs/patterns.md, "Speed"). Part of the cache identity: the surfaces of such
+patterns are keyed anew (the single-course cells, jersey's among them, keep the default)."""
 
 
 def path_case(load) -> LoadCase:
@@ -93,7 +106,8 @@ def fabric_settings(fabric: Fabric, control_points: int, bending: str = "auto") 
     (`rve_rod.rve.yarn.BENDING_CHOICES`, resolved for the yarn by `bending_model`, so that
     cache keys and surface files name the model that ran); a yarn without friction (mu = 0)
     runs without the friction path (no slip history), everything else at its default (but a
-    pattern's cell of several courses: every linear system factorized anew). Raises
+    pattern's cell of several courses: every linear system factorized anew, and
+    SEVERAL_COURSES_ITERATIONS Newton iterations per solve). Raises
     InputError when the bending model cannot model the fabric's yarn (`check_bending`)."""
     model = bending_model(fabric, bending)
     check_bending(fabric, model)
@@ -103,9 +117,12 @@ def fabric_settings(fabric: Fabric, control_points: int, bending: str = "auto") 
     )
     if smallest_cell(fabric.knit.pattern).courses > 1:
         # several yarn patches: their ties' soft modes need every system factorized anew
-        # (refined solves with older factors meet the linear tolerance and miss those modes:
-        # moss stops at its first step), the linear solver's options, not part of the identity
-        newton = dataclasses.replace(settings.newton, refinement=0)
+        # (refined solves with older factors meet the linear tolerance and miss those modes;
+        # the linear solver's options, not part of the identity), and the first step from the
+        # touching template more Newton iterations (SEVERAL_COURSES_ITERATIONS)
+        newton = dataclasses.replace(
+            settings.newton, refinement=0, max_iterations=SEVERAL_COURSES_ITERATIONS
+        )
         settings = dataclasses.replace(settings, newton=newton)
     return settings
 

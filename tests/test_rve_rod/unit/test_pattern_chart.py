@@ -184,6 +184,10 @@ def test_tucks_and_misses_are_charted_but_not_modelled():
     assert chart.label() == "KT,KK"
     with pytest.raises(InputError, match="row 1 \\('KT'\\) has a tuck \\('T'\\) in column 2"):
         chart.check_modelled()
+    with pytest.raises(InputError, match="row 2 \\('KM'\\) has a miss \\('M'\\) in column 2"):
+        Chart(("KK", "KM")).check_modelled()
+    with pytest.raises(InputError, match="row 1 \\('IK'\\) has an inlay \\('I'\\) in column 1"):
+        Chart(("IK", "KK")).check_modelled()
     Chart(("KP",)).check_modelled()
 
 

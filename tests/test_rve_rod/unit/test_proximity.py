@@ -4,8 +4,10 @@ import numpy as np
 import pytest
 
 from rve_rod.errors import InputError
+from rve_rod.geometry import proximity
 from rve_rod.geometry.bspline import BSplineCurve, open_knot_vector
-from rve_rod.geometry.proximity import chain_clearance
+from rve_rod.geometry.pattern_cell import pattern_geometry
+from rve_rod.geometry.proximity import cell_clearance, chain_clearance
 
 
 def straight_chain(direction):
@@ -46,3 +48,33 @@ def test_search_from_one_curve_of_a_symmetric_chain_finds_the_same_distance(curv
 def test_from_curve_must_be_a_curve_of_the_chain():
     with pytest.raises(InputError, match="from_curve=4"):
         chain_clearance(straight_chain(np.array([2.0, 0.0, 0.0])), np.eye(3)[:2], 1.0, from_curve=4)
+
+
+@pytest.mark.parametrize("pattern", ["garter", "seed", "moss"])
+@pytest.mark.parametrize("flatten", [1.0, 0.5])
+def test_cell_clearance_skips_only_images_beyond_its_reach(pattern, flatten, monkeypatch):
+    """The cell search computes the sample distances only to the images whose bounding boxes
+    come within its reach: the same closest pair, bit for bit, as computing every image
+    (gaps all zero), for templates and for templates flattened into interpenetration."""
+    cell = pattern_geometry(pattern, 0.86, 1.12, 0.19).periodic_yarns()
+    yarns = [
+        tuple(
+            BSplineCurve(curve.degree, curve.knots, curve.control_points * [1.0, 1.0, flatten])
+            for curve in yarn
+        )
+        for yarn in cell.yarns
+    ]
+    blocks = []
+    distances = proximity.scipy.spatial.distance.cdist
+    monkeypatch.setattr(
+        proximity.scipy.spatial.distance,
+        "cdist",
+        lambda *args: blocks.append(1) or distances(*args),
+    )
+    pruned = cell_clearance(yarns, cell.lattice, 0.6)
+    computed = len(blocks)
+    monkeypatch.setattr(proximity, "_box_gaps", lambda first, second, offsets: np.zeros(15))
+    assert cell_clearance(yarns, cell.lattice, 0.6) == pruned
+    pairs = len(yarns) * (len(yarns) + 1) // 2
+    assert len(blocks) - computed == 15 * pairs  # every image of every pair of yarns
+    assert computed < 0.5 * 15 * pairs  # the pruned search skipped most of them

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from support.rve_cases import CURVES, FABRIC, KNIT
 
+from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.pattern_cell import PeriodicYarns, pattern_geometry
 from rve_rod.newton import solve_path
 from rve_rod.pattern import periodic_cell
@@ -166,3 +167,46 @@ def test_moss_runs_with_the_settings_of_a_cell_of_several_courses():
     assert result.complete
     assert len(result.curves) == 2
     assert (np.diff(result.series("force_gf_per_cm")) > 0).all()
+
+
+def test_moss_runs_course_wise_from_a_first_step_of_one_percent():
+    """Moss course-wise at 1 % steps (the speed benchmark's path) stopped at 0 %: its first
+    step from the touching template needs 31 Newton iterations, more than the default 25,
+    and every cutback failed (`rve_rod.rve.engine.SEVERAL_COURSES_ITERATIONS`). It runs now,
+    its force grows, and the ties and the lateral regularization carry a negligible share of
+    the stress."""
+    fabric = with_pattern(load_preset("cotton-20s2", 5.5), "moss")
+    result = simulate(fabric, load_case("uniaxial-course", 0.03, 4), fabric_settings(fabric, 36))
+    assert result.complete
+    forces = result.series("force_gf_per_cm")
+    assert (np.diff(forces) > 0).all()
+    loaded = max(abs(step.first_piola[0, 0]) for step in result.steps)
+    assert max(step.regularization for step in result.steps) < 1e-2 * loaded
+
+
+def test_jersey_wale_wise_stops_at_the_penetration_limit_not_jammed():
+    """Jersey wale-wise (docs/patterns.md, "What stops them wale-wise"): the path stops between
+    40 and 45 % because the most squeezed contact reaches the penetration limit (r), not
+    because the loops jam (the force does not stiffen) or the steps are cut to a floor; with
+    the limit at 1.5 r the same run reaches 50 %, its contact beyond r there."""
+    fabric = load_preset("cotton-20s2", 5.5)
+    chosen = fabric_settings(fabric, 36)
+    case = load_case("uniaxial-wale", 0.5, 21)
+    with pytest.raises(ConvergenceError, match="penetration_limit") as caught:
+        simulate(fabric, case, chosen)
+    stopped = caught.value.history
+    penetration = stopped.series("max_penetration") / stopped.yarn.radius
+    assert 0.4 <= stopped.steps[-1].strain < 0.45
+    assert 0.9 < penetration[-1] <= 1.0
+    assert all(step.cutbacks == 0 for step in stopped.steps)
+    looser = dataclasses.replace(
+        chosen, cell=dataclasses.replace(chosen.cell, penetration_limit=1.5)
+    )
+    result = simulate(fabric, case, looser)
+    assert result.complete
+    assert result.steps[-1].max_penetration / result.yarn.radius > 1.0
+    strains, forces = result.series("strain"), result.series("force_gf_per_cm")
+    slope = np.diff(forces) / np.diff(strains)
+    early = slope[(strains[1:] > 0.1) & (strains[1:] <= 0.2)].mean()
+    late = slope[strains[1:] > 0.4].mean()
+    assert late < 1.2 * early  # no jamming: the tangent does not stiffen towards 50 %
