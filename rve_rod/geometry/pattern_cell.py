@@ -284,17 +284,26 @@ class _PatternSearch:
         return self.clearance(self.yarns(depth)).distance / (2 * self.r) - 1
 
 
-@lru_cache(maxsize=32)
 def pattern_geometry(
     pattern, wale_width: float, course_height: float, minimal_radius: float
 ) -> PatternGeometry:
-    """The template loops of the periodic cell of `pattern` (a chart's rows, a name, or a
-    ChartCell for a given lattice) for loop width w, course height c and yarn radius r0 (mm).
+    """The template loops of the periodic cell of `pattern` (a chart's rows as a list or
+    tuple, a name, or a ChartCell for a given lattice) for loop width w, course height c and
+    yarn radius r0 (mm); built once per pattern and sizes (a cache of 32).
 
     Raises:
         InputError: a chart with stitches the cell does not model, or no loop fits (as
             `single_jersey_loop`).
     """
+    if isinstance(pattern, list):
+        pattern = tuple(pattern)
+    return _pattern_geometry(pattern, wale_width, course_height, minimal_radius)
+
+
+@lru_cache(maxsize=32)
+def _pattern_geometry(
+    pattern, wale_width: float, course_height: float, minimal_radius: float
+) -> PatternGeometry:
     cell = pattern if isinstance(pattern, ChartCell) else smallest_cell(pattern)
     cell.chart.check_modelled()
     jersey = single_jersey_loop(wale_width, course_height, minimal_radius)
@@ -336,3 +345,6 @@ def pattern_geometry(
         loop_length=length / cell.n_loops,
         min_clearance=clearance,
     )
+
+
+pattern_geometry.cache_clear = _pattern_geometry.cache_clear

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
+from rve_rod.errors import InputError
 from rve_rod.geometry.loop import ADJACENT_ARC_FACTOR, LoopShape, single_jersey_loop
 from rve_rod.geometry.pattern_cell import QuarterSides, pattern_geometry, pattern_heights
 from rve_rod.geometry.proximity import cell_clearance, chain_clearance
@@ -117,3 +118,12 @@ def test_two_courses_of_jersey_clear_each_other_as_the_course_clears_its_images(
         list(cell.yarns), cell.lattice, ADJACENT_ARC_FACTOR * cell.yarn_radius
     ).distance
     assert found == pytest.approx(2 * cell.yarn_radius, rel=1e-6)
+
+
+def test_a_chart_given_as_a_list_is_the_chart_given_as_a_tuple():
+    """Rows as a list (as JSON and TOML give them) are the same chart as a tuple, from the same
+    cache; a list with a tuck is refused with the chart's one line, not a TypeError."""
+    sizes = (COTTON.wale_width, COTTON.course_height, R0)
+    assert pattern_geometry(["KP"], *sizes) is pattern_geometry(("KP",), *sizes)
+    with pytest.raises(InputError, match="has a tuck"):
+        pattern_geometry(["KT", "KK"], *sizes)
