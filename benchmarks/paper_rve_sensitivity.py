@@ -169,6 +169,16 @@ VARIANTS = (
         {**FIBRES, "friction": False},
         profile="tightened",
     ),
+    Variant(
+        "free fibres, tightened loop, contact at r0",
+        {**FIBRES, "contact_radius": "measured"},
+        profile="tightened",
+    ),
+    Variant(
+        "free fibres, tightened loop, contact at r0, frictionless",
+        {**FIBRES, "contact_radius": "measured", "friction": False},
+        profile="tightened",
+    ),
     Variant("section, point loads r f_n at the collocation points", SECTION, lumping="point"),
     Variant("free fibres, point loads r f_n at the collocation points", FIBRES, lumping="point"),
 )
