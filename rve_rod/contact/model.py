@@ -506,6 +506,7 @@ class ContactModel:
             layout.span_closed_end,
             groups=candidates.group,
             targets=targets,
+            reach=reach,
         )
         # Keep minima within the detection radius that are not adjacency along the own yarn
         # (which includes every point's zero-distance minimum on itself).
