@@ -162,7 +162,8 @@ def project_on_groups(spans, groups, targets, tolerance, reach, out):
 
     A span whose bounding box (that of its Bernstein control points, which holds the span by
     the convex hull property) lies farther than `reach` from the target holds no point within
-    reach, so it is skipped: the minima within reach are the same with or without the test.
+    reach, so it is skipped, and so is a group whose spans' boxes all do: the minima within
+    reach are the same with or without these tests.
 
     Args:
         spans: `SpanGroups`.
@@ -181,12 +182,20 @@ def project_on_groups(spans, groups, targets, tolerance, reach, out):
     _slope_bernstein(coefficients, bernstein)
     boxes = np.empty((coefficients.shape[2], 2, 3))
     _span_boxes(coefficients, boxes)
+    group_boxes = np.empty((group_spans.shape[1], 2, 3))
+    for g in range(group_spans.shape[1]):
+        first = group_spans[0, g]
+        for c in range(3):
+            group_boxes[g, 0, c] = boxes[first : first + group_spans[1, g], 0, c].min()
+            group_boxes[g, 1, c] = boxes[first : first + group_spans[1, g], 1, c].max()
     pieces = np.empty((3, _MAX_PIECES))
     stack = np.empty((_MAX_PIECES, 2 + n_slope))
     capacity = out.values.shape[1]
     count = 0
     for c in range(groups.size):
         target = targets[:, c]
+        if _box_distance(group_boxes, groups[c], target) > reach:
+            continue
         first = group_spans[0, groups[c]]
         slope_low = _start_slope(coefficients, first, target)
         for s in range(first, first + group_spans[1, groups[c]]):
@@ -252,11 +261,12 @@ def _span_boxes(coefficients, out):
 
 
 @njit(cache=True)
-def _box_distance(boxes, span, target):
-    """Distance (mm) from a point (3,) to the bounding box of a span (`_span_boxes`)."""
+def _box_distance(boxes, index, target):
+    """Distance (mm) from a point (3,) to the box `index` of boxes (k, 2, 3) (lower and upper
+    corner)."""
     total = 0.0
     for c in range(3):
-        gap = max(boxes[span, 0, c] - target[c], target[c] - boxes[span, 1, c], 0.0)
+        gap = max(boxes[index, 0, c] - target[c], target[c] - boxes[index, 1, c], 0.0)
         total += gap * gap
     return np.sqrt(total)
 
