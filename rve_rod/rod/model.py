@@ -344,6 +344,7 @@ class RodModel:
         cell of a stitch pattern, `rve_rod.rve.relax`). Lengths and shear stay the
         reference's."""
         self._reference[_CURVATURE_ROWS] = scale * self._curvature
+        self._evaluated = None  # made with the former natural shape
 
     def set_prestrain(self, prestrain: float) -> None:
         """Make the rods' natural (stress-free) length 1 / (1 + eps0) times the reference
@@ -355,6 +356,7 @@ class RodModel:
         if not prestrain > -1.0:
             raise InputError(f"prestrain={prestrain} must exceed -1 (a positive natural length)")
         self._reference[_STRETCH_ROWS] = self._stretch / (1.0 + prestrain)
+        self._evaluated = None  # made with the former natural length
 
     # -------------------------------------------------------------------- post-processing --
 

@@ -172,6 +172,14 @@ def test_end_values_follow_the_state_asked_for():
                 getattr(values, name), getattr(expected, name), rtol=1e-13, atol=1e-15
             )
     assert not np.allclose(alone[0].force, alone[1].force)
+    # a new natural length changes the end's forces at the evaluated state
+    model.evaluate(first, 0.7)
+    model.set_prestrain(0.02)
+    stretched = model.end_values(first, end)
+    fresh = periodic_model()
+    fresh.set_prestrain(0.02)
+    np.testing.assert_allclose(stretched.force, fresh.end_values(first, end).force, rtol=1e-13)
+    assert not np.allclose(stretched.force, alone[0].force)
 
 
 @pytest.mark.parametrize("build", [open_chain_model, pinned_model, periodic_model])
