@@ -148,7 +148,7 @@ class Minima(NamedTuple):
 
 
 @njit(cache=True)
-def project_on_groups(spans, groups, targets, tolerance, out):
+def project_on_groups(spans, groups, targets, tolerance, reach, out):
     """Closest points of targets on groups of spans: every local minimum of distance.
 
     The squared distance f(tau) = |C(tau) - x|^2 / 2 has slope g = C'.(C - x), a polynomial
@@ -160,11 +160,17 @@ def project_on_groups(spans, groups, targets, tolerance, out):
     whenever a step would leave the bracket (safeguarded Newton: it always converges,
     quadratically near the root).
 
+    A span whose bounding box (that of its Bernstein control points, which holds the span by
+    the convex hull property) lies farther than `reach` from the target holds no point within
+    reach, so it is skipped, and so is a group whose spans' boxes all do: the minima within
+    reach are the same with or without these tests.
+
     Args:
         spans: `SpanGroups`.
         groups: (k,) group of each target.
         targets: (3, k) points to project (slave point minus the image translation).
         tolerance: convergence tolerance on tau (the iteration limit follows from it).
+        reach: minima farther than this from their target may be left out (mm; inf: none).
         out: `Minima` buffers.
 
     Returns the number of minima found; only the first `capacity` are written.
@@ -174,12 +180,22 @@ def project_on_groups(spans, groups, targets, tolerance, out):
     n_slope = 2 * coefficients.shape[1] - 2  # coefficients of g, degree 2p - 1
     bernstein = np.empty((coefficients.shape[2], 4, n_slope))
     _slope_bernstein(coefficients, bernstein)
+    boxes = np.empty((coefficients.shape[2], 2, 3))
+    _span_boxes(coefficients, boxes)
+    group_boxes = np.empty((group_spans.shape[1], 2, 3))
+    for g in range(group_spans.shape[1]):
+        first = group_spans[0, g]
+        for c in range(3):
+            group_boxes[g, 0, c] = boxes[first : first + group_spans[1, g], 0, c].min()
+            group_boxes[g, 1, c] = boxes[first : first + group_spans[1, g], 1, c].max()
     pieces = np.empty((3, _MAX_PIECES))
     stack = np.empty((_MAX_PIECES, 2 + n_slope))
     capacity = out.values.shape[1]
     count = 0
     for c in range(groups.size):
         target = targets[:, c]
+        if _box_distance(group_boxes, groups[c], target) > reach:
+            continue
         first = group_spans[0, groups[c]]
         slope_low = _start_slope(coefficients, first, target)
         for s in range(first, first + group_spans[1, groups[c]]):
@@ -188,6 +204,9 @@ def project_on_groups(spans, groups, targets, tolerance, out):
                 slope_high = _start_slope(coefficients, following, target)
             else:
                 slope_high = _end_slope(coefficients, s, target)
+            if _box_distance(boxes, s, target) > reach:
+                slope_low = slope_high
+                continue
             for k in range(n_slope):
                 stack[0, 2 + k] = bernstein[s, 0, k] - (
                     target[0] * bernstein[s, 1, k]
@@ -218,6 +237,38 @@ def project_on_groups(spans, groups, targets, tolerance, out):
                 count += 1
             slope_low = slope_high
     return count
+
+
+@njit(cache=True)
+def _span_boxes(coefficients, out):
+    """Bounding boxes (S, 2, 3) (lower and upper corner) of the spans' Bernstein control
+    points, from their power-basis coefficients (3, p+1, S) on [0, 1]."""
+    p = coefficients.shape[1] - 1
+    for span in range(coefficients.shape[2]):
+        for c in range(3):
+            low = np.inf
+            high = -np.inf
+            for k in range(p + 1):
+                value = 0.0
+                ratio = 1.0  # binom(k, i) / binom(p, i)
+                for i in range(k + 1):
+                    value += ratio * coefficients[c, i, span]
+                    ratio *= (k - i) / (p - i) if i < p else 0.0
+                low = min(low, value)
+                high = max(high, value)
+            out[span, 0, c] = low
+            out[span, 1, c] = high
+
+
+@njit(cache=True)
+def _box_distance(boxes, index, target):
+    """Distance (mm) from a point (3,) to the box `index` of boxes (k, 2, 3) (lower and upper
+    corner)."""
+    total = 0.0
+    for c in range(3):
+        gap = max(boxes[index, 0, c] - target[c], target[c] - boxes[index, 1, c], 0.0)
+        total += gap * gap
+    return np.sqrt(total)
 
 
 _MAX_PIECES = 64

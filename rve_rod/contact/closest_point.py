@@ -53,6 +53,7 @@ def project(
     *,
     groups: np.ndarray,
     targets: np.ndarray,
+    reach: float = np.inf,
 ) -> Projections:
     """All local distance minima of targets (3, k) on their span groups (k,).
 
@@ -63,6 +64,8 @@ def project(
         closed_end: (S,) spans that own their end parameter (last span of an open yarn).
         groups: (k,) group of each target.
         targets: (3, k) points to project (slave points minus the image translation).
+        reach: minima farther than this from their target (mm) may be left out (spans whose
+            bounding box lies beyond it are skipped); default: every minimum.
     """
     capacity = max(16, groups.size // 4)
     coefficients = np.ascontiguousarray(coefficients)
@@ -71,7 +74,7 @@ def project(
     spans = _kernels.SpanGroups(coefficients, group_spans, span_next, closed_end)
     while True:
         out = _kernels.Minima(np.empty((2, capacity), dtype=np.int64), np.empty((10, capacity)))
-        count = _kernels.project_on_groups(spans, groups, targets, TOLERANCE, out)
+        count = _kernels.project_on_groups(spans, groups, targets, TOLERANCE, float(reach), out)
         if count <= capacity:
             break
         capacity = count

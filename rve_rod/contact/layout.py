@@ -9,6 +9,7 @@ collocation point sits. Global numbering: control points and collocation points 
 are concatenated in patch order; spans likewise.
 """
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -181,9 +182,14 @@ class ContactLayout:
     def n_points(self) -> int:
         return self.point_span.size
 
+    @functools.cached_property
+    def span_control_points(self) -> np.ndarray:
+        """(S, p+1) global index of the control points acting on each span."""
+        return self.span_first[:, None] + np.arange(self.degree + 1)[None, :]
+
     def span_points(self, positions: np.ndarray) -> np.ndarray:
         """Control points of each span, shape (S, p+1, 3), from positions (n, 3)."""
-        return positions[self.span_first[:, None] + np.arange(self.degree + 1)[None, :]]
+        return np.take(positions, self.span_control_points, axis=0)
 
     def coefficients(self, positions: np.ndarray) -> np.ndarray:
         """Power-basis coefficients of every span, (3, p+1, S): C(tau) = sum_k c[:, k] tau^k."""

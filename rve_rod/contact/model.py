@@ -506,6 +506,7 @@ class ContactModel:
             layout.span_closed_end,
             groups=candidates.group,
             targets=targets,
+            reach=reach,
         )
         # Keep minima within the detection radius that are not adjacency along the own yarn
         # (which includes every point's zero-distance minimum on itself).
@@ -752,7 +753,8 @@ def _per_point(per_contact: _ContactDerivatives, slave: np.ndarray, n_points: in
     (3m, 3n) COO with repeated entries and (3m, 4), rows c m + j."""
     k = slave.size
     rows = per_contact.positions.row
-    point_rows = (rows // max(k, 1)) * n_points + slave[rows % max(k, 1)]
+    component, contact = np.divmod(rows, max(k, 1))
+    point_rows = component * n_points + slave[contact]
     jacobian = scipy.sparse.coo_matrix(
         (per_contact.positions.data, (point_rows, per_contact.positions.col)),
         shape=(3 * n_points, per_contact.positions.shape[1]),

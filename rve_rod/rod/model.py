@@ -192,6 +192,7 @@ class _EndConstant(NamedTuple):
     reference_position: np.ndarray
     reference_quaternion: np.ndarray
     position_indices: np.ndarray  # (p+1, 3) state indices of the acting control points
+    chain: np.ndarray  # (18, 7(p+1)): d/d local variables -> d/d control dofs (_chain_basis)
 
 
 class _Pattern(NamedTuple):
@@ -307,6 +308,7 @@ class RodModel:
             for k in range(len(self.patches))
             for point in (self.layout.points(k)[0], self.layout.points(k)[-1])
         }
+        self._evaluated: tuple[np.ndarray, _kernels.PointEquations] | None = None
         self._pattern = self._build_pattern()
 
     # ----------------------------------------------------------------------------- layout --
@@ -342,6 +344,7 @@ class RodModel:
         cell of a stitch pattern, `rve_rod.rve.relax`). Lengths and shear stay the
         reference's."""
         self._reference[_CURVATURE_ROWS] = scale * self._curvature
+        self._evaluated = None  # made with the former natural shape
 
     def set_prestrain(self, prestrain: float) -> None:
         """Make the rods' natural (stress-free) length 1 / (1 + eps0) times the reference
@@ -353,6 +356,7 @@ class RodModel:
         if not prestrain > -1.0:
             raise InputError(f"prestrain={prestrain} must exceed -1 (a positive natural length)")
         self._reference[_STRETCH_ROWS] = self._stretch / (1.0 + prestrain)
+        self._evaluated = None  # made with the former natural length
 
     # -------------------------------------------------------------------- post-processing --
 
@@ -415,6 +419,8 @@ class RodModel:
         if state.shape != (self.n_dofs,):
             raise InputError(f"state has shape {state.shape}; expected ({self.n_dofs},)")
         local = self._local_equations(state, with_jacobian)
+        # kept for end_values at the same state (the cell's conditions ask for cut ends)
+        self._evaluated = (state.copy(), local) if with_jacobian else None
         kin, local_residual, section = local.kinematics, local.residual, local.section
         d_residual, d_section = local.d_residual, local.d_section
         residual = np.zeros(self.n_dofs)
@@ -504,13 +510,17 @@ class RodModel:
         """Position, quaternion, internal force and moment at a rod end, with derivatives."""
         state = np.asarray(state, dtype=float)
         point = self.layout.end_point(RodEnd(int(end.patch), end.side))
-        local = self._local_equations(state, True, point)
+        evaluated = self._evaluated
+        if evaluated is not None and np.array_equal(evaluated[0], state):
+            local, column = evaluated[1], point  # the evaluation at this state has it
+        else:
+            local, column = self._local_equations(state, True, point), 0
         return self._end_values(
             point,
             state,
-            kin=local.kinematics[:, 0],
-            section=local.section[:, 0],
-            d_section=local.d_section[:, :, 0],
+            kin=local.kinematics[:, column],
+            section=local.section[:, column],
+            d_section=local.d_section[:, :, column],
         )
 
     def problem(self, commit=None) -> NonlinearProblem:
@@ -664,7 +674,7 @@ class RodModel:
         (6,) and their local derivatives (6, 18)."""
         constant = self._end_constants[point]
         basis = self._basis[:, :, point]
-        chained = _chain_basis(d_section, basis)
+        chained = d_section @ constant.chain
         return EndValues(
             columns=constant.columns,
             position=basis[0] @ state[constant.position_indices],
@@ -701,6 +711,7 @@ class RodModel:
             reference_position=basis[0] @ reference[position_indices],
             reference_quaternion=basis[0] @ reference[quaternion_indices],
             position_indices=position_indices,
+            chain=_chain_basis(np.eye(18), basis),
         )
 
     def _context(self, condition, rows, state, *, kin, section, d_section) -> ConditionContext:

@@ -47,6 +47,7 @@ class ContactCoupling:
         area: reference cell area |a1 x a2| (mm^2).
         end_points: (2 k,) the collocation points at the cuts of the k patches (where the rod
             ignores line loads).
+        at_end: (n,) bool, True at the `end_points`.
     """
 
     def __init__(self, contact: ContactModel, macro: MacroDeformation, n_control_points: int):
@@ -64,6 +65,8 @@ class ContactCoupling:
                 for index in np.flatnonzero(patch_of_point == patch)[[0, -1]]
             ]
         )
+        self.at_end = np.zeros(patch_of_point.size, dtype=bool)
+        self.at_end[self.end_points] = True
         self._n = int(n_control_points)
         self._cached: _Cached | None = None
 

@@ -102,7 +102,7 @@ def image_weights(
     """Weights c_k = w_k L_k,b / (2 A0) (1/mm) of the contacts of `result` for P_ab, b =
     `column`, and a mask of the contacts at the cut (excluded, weight 0)."""
     contacts = result.contacts
-    at_cut = np.isin(contacts.slave, coupling.end_points)
+    at_cut = coupling.at_end[contacts.slave]
     shifts = contacts.image @ coupling.lattice[:, :2]  # (k, 2) reference L
     weights = 0.5 * coupling.weights[contacts.slave] * shifts[:, column] / coupling.area
     return np.where(at_cut, 0.0, weights), at_cut
@@ -173,7 +173,7 @@ class MacroBalance(Condition):
         contacts = result.contacts
         k = contacts.slave.size
         per_contact = result.contact_jacobian  # COO, row c k + i: component c of contact i
-        component, contact = (per_contact.row // k, per_contact.row % k) if k else (None, None)
+        component, contact = np.divmod(per_contact.row, k) if k else (None, None)
         components = self.macro.contact_components()
         columns = np.concatenate([self.position_columns, self.macro.columns])
         period = coupling.lattice[0, 0]

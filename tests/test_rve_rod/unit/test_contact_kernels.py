@@ -109,6 +109,38 @@ def test_projection_finds_every_local_minimum_once(degree, spans_per_group):
     )
 
 
+@pytest.mark.parametrize("reach", [0.2, 0.35, 0.5])
+def test_projection_within_reach_keeps_every_minimum_within_reach(reach):
+    # Spans whose bounding box lies beyond the reach are skipped: the minima within reach are
+    # exactly those of the search without it (same spans, same parameters, bit for bit), and
+    # minima beyond it are left out.
+    rng = np.random.default_rng(7)
+    curve = wavy_curve(4, 60, rng)
+    layout = build_layout([Patch(4, curve.knots)], [YarnChain((0,))], curve.control_points)
+    groups = np.array([[0], [layout.n_spans]])
+    targets = (curve(rng.uniform(0, 1, 40)) + rng.uniform(-0.4, 0.4, (40, 3))).T
+    search = {
+        "coefficients": layout.coefficients(curve.control_points),
+        "group_spans": groups,
+        "span_next": layout.span_next,
+        "closed_end": layout.span_closed_end,
+        "groups": np.zeros(40, dtype=np.int64),
+        "targets": targets,
+    }
+    every = project(**search)
+    near = project(**search, reach=reach)
+
+    def within(found):
+        distance = np.linalg.norm(targets[:, found.candidate] - found.point, axis=0)
+        keep = distance < reach
+        return found.candidate[keep], found.span[keep], found.tau[keep]
+
+    for mine, expected in zip(within(near), within(every), strict=True):
+        np.testing.assert_array_equal(mine, expected)
+    assert within(every)[0].size > 0
+    assert near.candidate.size < every.candidate.size
+
+
 def one_span_projection(control_points, target):
     """Minima (sorted parameters) of the distance from target (3,) to one Bezier span."""
     degree = len(control_points) - 1

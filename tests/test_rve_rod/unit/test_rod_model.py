@@ -156,6 +156,32 @@ def test_jacobian_matches_finite_differences(build):
     np.testing.assert_array_less(np.abs(analytic - numeric) / row_scale, 1e-6)
 
 
+def test_end_values_follow_the_state_asked_for():
+    # end_values reuses the local equations of the last evaluation with its Jacobian when
+    # asked at the same state: it gives what the end's own kernels give, at every state.
+    model = periodic_model()
+    rng = np.random.default_rng(5)
+    first, second = perturbed_state(model, rng), perturbed_state(model, rng)
+    end = RodEnd(1, END)
+    alone = [model.end_values(state, end) for state in (first, second)]
+    model.evaluate(first, 0.7)
+    for state, expected in ((first, alone[0]), (second, alone[1]), (first, alone[0])):
+        values = model.end_values(state, end)
+        for name in ("position", "quaternion", "force", "moment", "d_force", "d_moment"):
+            np.testing.assert_allclose(
+                getattr(values, name), getattr(expected, name), rtol=1e-13, atol=1e-15
+            )
+    assert not np.allclose(alone[0].force, alone[1].force)
+    # a new natural length changes the end's forces at the evaluated state
+    model.evaluate(first, 0.7)
+    model.set_prestrain(0.02)
+    stretched = model.end_values(first, end)
+    fresh = periodic_model()
+    fresh.set_prestrain(0.02)
+    np.testing.assert_allclose(stretched.force, fresh.end_values(first, end).force, rtol=1e-13)
+    assert not np.allclose(stretched.force, alone[0].force)
+
+
 @pytest.mark.parametrize("build", [open_chain_model, pinned_model, periodic_model])
 def test_curved_twisted_reference_is_stress_free(build):
     model = build()
