@@ -340,9 +340,9 @@ class RodModel:
     def set_natural_curvature(self, scale: float) -> None:
         """Make the rods' natural (stress-free) curvature and twist `scale` times those of the
         reference configuration: 1, as built, the reference shape is stress-free; 0, naturally
-        straight rods bent into the reference shape (a yarn that keeps no set; the relaxed
-        cell of a stitch pattern, `rve_rod.rve.relax`). Lengths and shear stay the
-        reference's."""
+        straight rods bent into the reference shape (a yarn that keeps no set:
+        `YarnSettings.natural_curvature`, `benchmarks/relaxed_rod_cell.py`). Lengths and shear
+        stay the reference's."""
         self._reference[_CURVATURE_ROWS] = scale * self._curvature
         self._evaluated = None  # made with the former natural shape
 

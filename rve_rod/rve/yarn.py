@@ -27,7 +27,7 @@ From yarn (r0, E0, nu, mu) and knit (w) as design.md states it (Weeger et al.):
   curvature and twist s times the loop's (`RodModel.set_natural_curvature`): 1, the loop as
   built is stress-free; 0, a yarn that keeps no set, straight when free, bent into the loop and
   held there by its contacts (`rve_rod.rve.cell.LoopCell.rest_state`; docs/validation.md,
-  "The straight yarn").
+  "Friction, a straight yarn, and the trade map").
 """
 
 import logging
