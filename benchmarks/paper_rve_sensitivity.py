@@ -60,6 +60,7 @@ class Variant(NamedTuple):
     yarn: Callable[[YarnModel, Fabric], YarnModel] | None = None
     profile: str = "band"
     lumping: str = "line"
+    tightening: float = 0.04
 
 
 def with_exponent(exponent: float) -> Callable[[YarnModel, Fabric], YarnModel]:
@@ -169,6 +170,15 @@ VARIANTS = (
         {**FIBRES, "friction": False},
         profile="tightened",
     ),
+    *(
+        Variant(
+            f"free fibres, loop tightened by {100 * eps0:g} %, frictionless",
+            {**FIBRES, "friction": False},
+            profile="tightened",
+            tightening=eps0,
+        )
+        for eps0 in (0.03, 0.06)
+    ),
     Variant(
         "free fibres, tightened loop, contact at r0",
         {**FIBRES, "contact_radius": "measured"},
@@ -184,23 +194,26 @@ VARIANTS = (
 )
 
 
-TIGHTENING = {"prestrain": 0.04, "contact_stiffness_factor": 0.03, "friction": False}
-"""How the "tightened" loop is pulled tight: the yarn's natural length 4 % short, the contact
-three times stiffer, frictionless (2 % with the contact x3 and 5 % with x10 found no rest
-state at 5.5)."""
+TIGHTENING = {"contact_stiffness_factor": 0.03, "friction": False}
+"""How the "tightened" loop is pulled tight: the yarn's natural length `Variant.tightening`
+short (4 % unless a row says otherwise), the contact three times stiffer, frictionless (2 %
+with the contact x3 and 5 % with x10 found no rest state at 5.5)."""
 
 
 @functools.cache
-def tightened_loop(stitch: float, control_points: int) -> tuple[list[BSplineCurve], float]:
-    """The template of cotton `stitch` pulled tight at its measured w and c (TIGHTENING, at
-    F = I: `LoopCell.rest_state`), as 4 quarter curves from the cut (the pulled shape is the
-    new stress-free loop), and the radius at which its pressed contacts just touch (r minus
-    half the largest penetration: the rest state of the cell built on it grows the contacts
-    back to r, so the loop starts pre-loaded as the squeezed rest does)."""
+def tightened_loop(
+    stitch: float, control_points: int, prestrain: float
+) -> tuple[list[BSplineCurve], float]:
+    """The template of cotton `stitch` pulled tight at its measured w and c (its yarn's
+    natural length `prestrain` short, TIGHTENING, at F = I: `LoopCell.rest_state`), as 4
+    quarter curves from the cut (the pulled shape is the new stress-free loop), and the radius
+    at which its pressed contacts just touch (r minus half the largest penetration: the rest
+    state of the cell built on it grows the contacts back to r, so the loop starts pre-loaded
+    as the squeezed rest does)."""
     fabric = load_preset("cotton-20s2", stitch)
     settings = RveSettings(
         cell=CellSettings(control_points=control_points),
-        yarn=YarnSettings(**FIBRES, **TIGHTENING),
+        yarn=YarnSettings(**FIBRES, **TIGHTENING, prestrain=prestrain),
     )
     cell = build_cell(loop_curves(fabric), fabric, BiaxialRay(steps=2), settings)
     rest = cell.rest_state(settings.newton, settings.stepping)
@@ -213,7 +226,8 @@ def tightened_loop(stitch: float, control_points: int) -> tuple[list[BSplineCurv
         rest_of_loop = pieces.right
     quarters.append(rest_of_loop)
     print(
-        f"  tightened {stitch:g}: yarn per loop {cell.curve.arc_length():.4f} -> "
+        f"  tightened {stitch:g} by {100 * prestrain:g} %: yarn per loop "
+        f"{cell.curve.arc_length():.4f} -> "
         f"{pulled.arc_length():.4f} mm, largest penetration {penetration / cell.yarn.radius:.3f} r",
         flush=True,
     )
@@ -229,7 +243,9 @@ def runner(variant: Variant) -> Callable[[Fabric, LoadCase, RveSettings], object
         yarn = yarn_model(fabric, settings.yarn)
         if variant.profile == "tightened":
             stitch = fabric.knit.stitch_value
-            curves, touching = tightened_loop(stitch, settings.cell.control_points)
+            curves, touching = tightened_loop(
+                stitch, settings.cell.control_points, variant.tightening
+            )
             yarn = yarn._replace(radius=touching)
             own = max(curve.n_control_points for curve in curves)
             settings = dataclasses.replace(
