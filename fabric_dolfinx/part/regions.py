@@ -1,12 +1,13 @@
 """Regions of a fabric: which cells carry which material, course direction and stitch value.
 
-A region is either a physical surface of the mesh (named in the gmsh file; every built-in
-shape has one, "fabric") or, when it gives a condition `where` on x, y (mm), the cells whose
-centres satisfy it. Regions are assigned in the order given, a later one taking cells from an
-earlier one, so a scene can say "the fabric, and a stiffer band where 80 < y < 120". Every
-cell must end in exactly one region. The course direction (degrees from the x axis to the
-course) and the stitch value are constants or expressions of x, y (and z on a surface in
-space), evaluated at the cell centres (one value per cell, DG0).
+A region is either a physical surface of the mesh (named in the gmsh file; every built-in shape
+has one, "fabric") or, when it gives a condition `where` on x, y (mm; and z on a surface in
+space, e.g. along a tube's axis), the cells whose centres satisfy it. Regions are assigned in
+the order given, a later one taking cells from an earlier one, so a scene can say "the fabric,
+and a stiffer band where 80 < y < 120". Every cell must end in exactly one region. The course
+direction (degrees from the x axis to the course) and the stitch value are constants or
+expressions of x, y (and z on a surface in space), evaluated at the cell centres (one value per
+cell, DG0).
 """
 
 from collections.abc import Sequence
@@ -41,7 +42,8 @@ class Region:
         material: the membrane material (its law sees the strain in the course/wale frame);
             None for a graded region.
         angle: course direction, degrees from the x axis: a number or an expression of x, y.
-        where: a condition of x, y (mm) selecting cells by their centres, or None.
+        where: a condition of x, y (and z in space; mm) selecting cells by their centres, or
+            None.
         stitch: the stitch value (mm; a number, an expression, or None): written to the
             output, and for a graded region the value its law is interpolated at.
         family: a graded region's laws at a few stitch values, ((stitch, Material), ...)
@@ -110,7 +112,7 @@ def assign_regions(tagged: TaggedMesh, regions: Sequence[Region]) -> RegionCells
     tagged_surfaces = tagged.regions or {}
     for number, region in enumerate(regions):
         if region.where is not None:
-            inside = region.where(centres[:, 0], centres[:, 1]) != 0.0
+            inside = region.where(*centres.T) != 0.0
             index[inside] = number
         elif region.name in tagged_surfaces:
             index[tagged.cells(region.name)] = number

@@ -88,8 +88,8 @@ def part_contents(spec: MeshSpec, *, plane: bool = True) -> GmshContents:
             raise InputError(f"{name}: gmsh did not mesh it in {GMSH_TIMEOUT_S:g} s") from None
         if run.returncode < 0:
             raise InputError(
-                f"{name}: gmsh crashed ({signal.Signals(-run.returncode).name}) while meshing "
-                "it; another Mesh.Algorithm may help (gmsh 4.8 crashes with 8)"
+                f"{name}: gmsh crashed while meshing it; another Mesh.Algorithm may help (gmsh "
+                f"4.8 crashes with 8; {signal.Signals(-run.returncode).name})"
             )
         if run.returncode != 0:
             lines = run.stderr.strip().splitlines() or ["no message"]

@@ -19,9 +19,16 @@ from rve_rod.errors import InputError
 __all__ = [
     "CONSTANTS",
     "FUNCTIONS",
+    "PLANE",
+    "SPACE",
     "FieldExpression",
     "piecewise_linear",
 ]
+
+PLANE = ("x", "y")
+"""The coordinates of an expression on a plane part."""
+SPACE = ("x", "y", "z")
+"""The coordinates of an expression on a part in space (a flat one has z = 0)."""
 
 FUNCTIONS = {
     "sin": np.sin,
@@ -71,7 +78,7 @@ class FieldExpression:
 
     text: str
     key: str = "expression"
-    coordinates: tuple[str, ...] = ("x", "y")
+    coordinates: tuple[str, ...] = PLANE
 
     def __post_init__(self):
         try:

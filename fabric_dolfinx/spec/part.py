@@ -17,7 +17,6 @@ from rve_rod.errors import InputError, check_integer, check_positive
 __all__ = [
     "AXES",
     "BOUNDARY_KINDS",
-    "COMPONENTS",
     "QUADRILATERAL_TYPES",
     "SHAPES",
     "SHAPE_DIMENSIONS",
@@ -128,8 +127,6 @@ def shape_cells(spec: MeshSpec, element_size: float | None = None) -> float:
 
 
 BOUNDARY_KINDS = ("clamp", "displacement", "roller", "traction", "free")
-COMPONENTS = {"x": 0, "y": 1}
-"""The components a scene's roller may hold (a plane part's)."""
 AXES = "xyz"
 """The displacement's components by name: x, y, and z for a part in space."""
 
@@ -244,14 +241,24 @@ def physical_groups(source: str) -> tuple[dict[str, int], dict[str, int]]:
 
 
 def shape_points(spec: MeshSpec, count: int = 101) -> np.ndarray:
-    """(n, 2) points (mm) of a count x count grid over a built-in shape's bounding box that
-    lie in the shape (the hole of plate_with_hole included): for checking expressions of
-    x, y over the part before it is meshed."""
+    """(n, 3) points (mm) in a built-in shape, for checking expressions of x, y (and z) over
+    the part before it is meshed: a count x count grid over a plane shape's bounding box that
+    lies in the shape (z = 0; the hole of plate_with_hole included), or over a tube's surface
+    (count around the circumference times count along its axis z, at the centres of count
+    equal rings from 0 to its length)."""
+    if spec.shape == "tube":
+        radius = spec.dimension("radius")
+        angle, z = np.meshgrid(
+            np.linspace(0.0, 2.0 * np.pi, count, endpoint=False),
+            (np.arange(count) + 0.5) * spec.dimension("length") / count,
+        )
+        angle, z = angle.ravel(), z.ravel()
+        return np.column_stack([radius * np.cos(angle), radius * np.sin(angle), z])
     if spec.shape == "cruciform":
         half = spec.dimension("width") / 2
         end = half + spec.dimension("arm_length")
         box = (-end, end, -end, end)
-    elif spec.shape in ("disc", "tube"):
+    elif spec.shape == "disc":
         radius = spec.dimension("radius")
         box = (-radius, radius, -radius, radius)
     elif spec.shape == "patch":
@@ -266,4 +273,4 @@ def shape_points(spec: MeshSpec, count: int = 101) -> np.ndarray:
         inside = x**2 + y**2 <= radius**2 * (1 + 1e-12)
     else:
         inside = np.ones(x.size, dtype=bool)
-    return np.column_stack([x[inside], y[inside]])
+    return np.column_stack([x[inside], y[inside], np.zeros(np.count_nonzero(inside))])

@@ -56,17 +56,21 @@ STRESS_FIGURE = "figures/fabric_stress.png"
 """The largest principal stress on the deformed part at its last converged step (plane)."""
 
 
-def _region(spec: RegionSpec, material: RegionMaterial, index: int) -> Region:
+def _region(
+    spec: RegionSpec, material: RegionMaterial, index: int, coordinates: tuple[str, ...]
+) -> Region:
     angle = spec.angle
     if isinstance(angle, str):
-        angle = FieldExpression(angle, f"region[{index}].angle")
-    where = FieldExpression(spec.where, f"region[{index}].where") if spec.where else None
+        angle = FieldExpression(angle, f"region[{index}].angle", coordinates)
+    where = (
+        FieldExpression(spec.where, f"region[{index}].where", coordinates) if spec.where else None
+    )
     if material.family is not None:
         family = tuple(
             (stitch, surface_material(read_surface(path), name=Path(path).parent.name))
             for stitch, path in material.family
         )
-        stitch = FieldExpression(material.stitch, f"region[{index}].stitch")
+        stitch = FieldExpression(material.stitch, f"region[{index}].stitch", coordinates)
         return Region(spec.name, None, angle=angle, where=where, stitch=stitch, family=family)
     if material.surface is not None:
         law = surface_material(read_surface(material.surface), name=Path(material.surface).name)
@@ -86,7 +90,7 @@ def run_fabric(job: FabricJob, folder: Path, comm=MPI.COMM_WORLD) -> dict:
             (folder / part).mkdir(exist_ok=True)
     comm.barrier()
     regions = [
-        _region(spec, material, index)
+        _region(spec, material, index, job.part.coordinates)
         for index, (spec, material) in enumerate(zip(job.part.regions, job.materials, strict=True))
     ]
     space = job.part.space

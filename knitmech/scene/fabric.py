@@ -7,7 +7,7 @@
 
     [[region]]                  # optional; default one region "fabric" of the [fabric] knit
     name = "fabric"
-    angle = 45.0                # or an expression of x, y (mm), in degrees
+    angle = 45.0                # or an expression of x, y (mm; and z in space), in degrees
 
     [[boundary]]
     name = "bottom"
@@ -33,11 +33,10 @@ from typing import Any
 import numpy as np
 
 from fabric_dolfinx.spec.contents import GmshContents, part_contents
-from fabric_dolfinx.spec.expression import FieldExpression
+from fabric_dolfinx.spec.expression import PLANE, SPACE, FieldExpression
 from fabric_dolfinx.spec.mesh_checks import check_geo_parameters
 from fabric_dolfinx.spec.part import (
     BOUNDARY_KINDS,
-    COMPONENTS,
     SHAPE_DIMENSIONS,
     SHAPES,
     BoundaryCondition,
@@ -95,12 +94,14 @@ class RegionSpec:
 
     Attributes:
         name: a physical surface of the mesh, or any name with `where`.
-        where: a condition on x, y (mm) selecting cells by their centres, or None.
-        angle: course direction (degrees from x): a number or an expression of x, y.
+        where: a condition on x, y (mm; and z for a part in space) selecting cells by their
+            centres, or None.
+        angle: course direction (degrees from x): a number or an expression of x, y (and z).
         knit: knit values overriding the [fabric] knit (KNIT_KEYS).
         surface: a response-surface file to use as it is (absolute path), or None.
         svk: orthotropic SVK constants (N/mm) instead of a knit (verification), or None.
-        graded_stitch: a stitch value varying over the region (an expression of x, y, mm),
+        graded_stitch: a stitch value varying over the region (an expression of x, y and,
+            in space, z; mm),
             or None; its law interpolates the surfaces at `members` (`fabric_dolfinx.graded`).
         members: the preset's stitch values a graded region needs (those bracketing its
             range), increasing.
@@ -135,6 +136,11 @@ class PartSpec:
     boundaries: tuple[BoundaryCondition, ...]
     probes: dict[str, tuple[float, float]] = field(default_factory=dict)
     space: SpaceSpec | None = None
+
+    @property
+    def coordinates(self) -> tuple[str, ...]:
+        """The coordinates the part's expressions may use: x, y, and z in space."""
+        return PLANE if self.space is None else SPACE
 
     def resolved(self, elements: int) -> "PartSpec":
         """With the element size of a built-in shape filled in: its characteristic length
@@ -184,15 +190,18 @@ def read_part(
                 contents = part_contents(spec, plane="space" not in data)
         except InputError as error:
             problems.append(f"fabric.mesh.file: {error}")
+    coordinates = PLANE if "space" not in data else SPACE
     region_specs = tuple(
-        _read_region(i, table, problems, base)
+        _read_region(i, table, problems, base, coordinates)
         for i, table in enumerate(_tables("region", regions, problems))
     ) or (RegionSpec(name="fabric"),)
     names = [r.name for r in region_specs]
     for name in sorted({n for n in names if names.count(n) > 1}):
         problems.append(f"region: the name {name!r} is given twice")
     region_specs = tuple(
-        _graded_members(index, region, fabric_table, _points(spec, contents, region), problems)
+        _graded_members(
+            index, region, fabric_table, _points(spec, contents, region, coordinates), problems
+        )
         if region.graded_stitch is not None
         else region
         for index, region in enumerate(region_specs)
@@ -211,7 +220,7 @@ def read_part(
             except (InputError, TypeError) as error:
                 problems.append(f"region[{index}]: {error}")
     boundary_specs = tuple(
-        _read_boundary(i, table, problems)
+        _read_boundary(i, table, problems, "".join(coordinates))
         for i, table in enumerate(_tables("boundary", boundaries, problems))
     )
     if boundaries is None or not boundary_specs:
@@ -234,10 +243,14 @@ def read_part(
         _check_names(Path(spec.file).name, names, region_specs, boundary_specs, problems)
     probes = _read_probes(data.get("probe"), problems)
     space = read_space(data, spec, problems) if spec is not None else None
-    if space is not None and len(region_specs) > 1:
-        problems.append("region: the membrane in space takes one region for now")
     if space is not None and probes:
         problems.append("probe: not available for the membrane in space yet")
+    for index, region in enumerate(region_specs):
+        if space is not None and region.graded_stitch is not None:
+            problems.append(
+                f"region[{index}].stitch: a graded stitch is not available for the membrane in "
+                "space yet (a graded sleeve: knitmech design, docs/design.md)"
+            )
     if len(problems) > count or spec is None:
         return None
     return PartSpec(spec, region_specs, boundary_specs, probes, space)
@@ -248,23 +261,29 @@ def part_problems(part: PartSpec) -> list[str]:
     a child process, `fabric_dolfinx.spec.contents.part_contents`) before any stage runs: a
     region that holds no cell, cells in no region (a physical surface not listed), a course
     direction or graded stitch not finite at a cell centre or a stitch leaving its family,
-    a probe outside the part; and the mesh checks for a built-in shape. One problem per key;
-    the tube (a surface in space, one region, no probes) is checked when it is meshed."""
+    a probe outside the part; and the mesh checks for a built-in shape. One problem per key.
+    A tube (a surface in space, no probes) is not meshed here: its cell centres are stood in
+    for by a grid of points on its surface (`shape_points`)."""
+    coordinates = part.coordinates
+    contents = None
     if part.mesh.shape == "tube":
-        return []
-    key = "fabric.mesh.file" if part.mesh.file is not None else "fabric.shape"
-    try:
-        contents = part_contents(part.mesh, plane=part.space is None)
-    except InputError as error:
-        return [f"{key}: {error}"]
-    names = list(contents.centres)
-    centres = np.concatenate([np.zeros((0, 2)), *(contents.centres[n] for n in names)])
-    surface = np.repeat(np.arange(len(names)), [len(contents.centres[n]) for n in names])
+        names = ["fabric"]
+        centres = shape_points(part.mesh)
+    else:
+        key = "fabric.mesh.file" if part.mesh.file is not None else "fabric.shape"
+        try:
+            contents = part_contents(part.mesh, plane=part.space is None)
+        except InputError as error:
+            return [f"{key}: {error}"]
+        names = list(contents.centres)
+        centres = np.concatenate([np.zeros((0, 2)), *(contents.centres[n] for n in names)])
+    counts = [len(centres)] if contents is None else [len(contents.centres[n]) for n in names]
+    surface = np.repeat(np.arange(len(names)), counts)
     index = np.full(len(centres), -1)
     for position, region in enumerate(part.regions):
         if region.where is not None:
-            where = FieldExpression(region.where, f"region[{position}].where")
-            index[where(centres[:, 0], centres[:, 1]) != 0.0] = position
+            where = FieldExpression(region.where, f"region[{position}].where", coordinates)
+            index[where(*centres.T) != 0.0] = position
         elif region.name in names:
             index[surface == names.index(region.name)] = position
     problems = []
@@ -281,9 +300,7 @@ def part_problems(part: PartSpec) -> list[str]:
             if not isinstance(text, str):
                 continue
             try:
-                values = FieldExpression(text, f"region[{position}].{name}")(
-                    cells[:, 0], cells[:, 1]
-                )
+                values = FieldExpression(text, f"region[{position}].{name}", coordinates)(*cells.T)
             except InputError as error:
                 problems.append(f"{error} (the centres of its cells)")
                 continue
@@ -305,6 +322,8 @@ def part_problems(part: PartSpec) -> list[str]:
             f"region: {len(missing)} cells belong to no region (physical surfaces not listed: "
             f"{', '.join(others) or 'none'}); add a region for them"
         )
+    if contents is None:  # a tube: no probes (a part in space has none)
+        return problems
     points = np.array(list(part.probes.values())).reshape(-1, 2)
     for position, (name, inside) in enumerate(
         zip(part.probes, contents.contains(points), strict=True)
@@ -337,11 +356,14 @@ def _read_probes(value, problems: list[str]) -> dict[str, tuple[float, float]]:
 
 
 def _points(
-    spec: MeshSpec | None, contents: GmshContents | None, region: RegionSpec
+    spec: MeshSpec | None,
+    contents: GmshContents | None,
+    region: RegionSpec,
+    coordinates: tuple[str, ...],
 ) -> np.ndarray | None:
-    """(n, 2) points (mm) where a region's graded stitch is checked before meshing: a grid
-    over a built-in shape, the element centres of a gmsh file's physical surface (of every
-    surface for a region with `where`), within `where`; None when they are not known."""
+    """(n, 2 or 3) points (mm) where a region's graded stitch is checked before meshing: a
+    grid over a built-in shape, the element centres of a gmsh file's physical surface (of
+    every surface for a region with `where`), within `where`; None when they are not known."""
     if spec is not None and spec.shape is not None:
         points = shape_points(spec)
     elif contents is not None and region.where is None:
@@ -351,7 +373,7 @@ def _points(
     else:
         return None
     if region.where is not None:
-        points = points[FieldExpression(region.where)(points[:, 0], points[:, 1]) != 0.0]
+        points = points[FieldExpression(region.where, coordinates=coordinates)(*points.T) != 0.0]
     return points
 
 
@@ -369,7 +391,8 @@ def _graded_members(
     values = sorted(float(v) for v in values)
     if points is None or len(points) == 0:
         return replace(region, members=tuple(values))
-    stitch = FieldExpression(region.graded_stitch, key)(points[:, 0], points[:, 1])
+    # the expression's coordinates were checked when it was read (x, y, and z in space)
+    stitch = FieldExpression(region.graded_stitch, key, SPACE)(*points.T)
     low, high = float(stitch.min()), float(stitch.max())
     if low < values[0] - 1e-9 or high > values[-1] + 1e-9:
         problems.append(
@@ -519,7 +542,10 @@ def _read_mesh(table, problems: list[str], base: Path | None) -> MeshSpec | None
     )
 
 
-def _read_region(index: int, table: dict, problems: list[str], base: Path | None) -> RegionSpec:
+def _read_region(
+    index: int, table: dict, problems: list[str], base: Path | None, coordinates: tuple[str, ...]
+) -> RegionSpec:
+    """One [[region]] table; its expressions may use `coordinates` (x, y, and z in space)."""
     prefix = f"region[{index}]"
     valid = ("name", "where", "angle", "surface", "svk", *KNIT_KEYS)
     check_keys(prefix, table, valid, problems)
@@ -529,17 +555,22 @@ def _read_region(index: int, table: dict, problems: list[str], base: Path | None
         name = f"region-{index}"
     where = table.get("where")
     if where is not None:
-        where = _expression(f"{prefix}.where", where, problems, "condition")
+        where = _expression(f"{prefix}.where", where, problems, "condition", coordinates)
     angle = table.get("angle", 0.0)
     if isinstance(angle, str):
-        angle = _expression(f"{prefix}.angle", angle, problems, "a course direction") or 0.0
+        angle = (
+            _expression(f"{prefix}.angle", angle, problems, "a course direction", coordinates)
+            or 0.0
+        )
     elif isinstance(angle, bool) or not isinstance(angle, int | float) or not -360 <= angle <= 360:
         problems.append(f"{prefix}.angle: {angle!r} is not a number in [-360, 360] degrees")
         angle = 0.0
     knit = {key: table[key] for key in KNIT_KEYS if key in table}
     graded = None
     if isinstance(knit.get("stitch"), str):
-        graded = _expression(f"{prefix}.stitch", knit.pop("stitch"), problems, "a stitch value")
+        graded = _expression(
+            f"{prefix}.stitch", knit.pop("stitch"), problems, "a stitch value", coordinates
+        )
     surface, svk = table.get("surface"), table.get("svk")
     given = [key for key, value in (("surface", surface), ("svk", svk)) if value is not None]
     if knit or graded is not None:
@@ -585,14 +616,18 @@ def _read_svk(prefix: str, table, problems: list[str]) -> dict[str, float] | Non
     return {k: float(v) for k, v in values.items()}
 
 
-def _expression(key: str, text, problems: list[str], kind: str) -> str | None:
-    """`text` when it is an expression of x, y of `kind` ("condition", or what a value
-    expression gives, e.g. "a stitch value"), else None and a problem."""
+def _expression(
+    key: str, text, problems: list[str], kind: str, coordinates: tuple[str, ...]
+) -> str | None:
+    """`text` when it is an expression of `coordinates` of `kind` ("condition", or what a
+    value expression gives, e.g. "a stitch value"), else None and a problem."""
     if not isinstance(text, str):
-        problems.append(f"{key}: expected an expression of x, y (a string), got {text!r}")
+        problems.append(
+            f"{key}: expected an expression of {', '.join(coordinates)} (a string), got {text!r}"
+        )
         return None
     try:
-        expression = FieldExpression(text, key)
+        expression = FieldExpression(text, key, coordinates)
         if kind == "condition":
             expression.as_condition()
         else:
@@ -603,7 +638,11 @@ def _expression(key: str, text, problems: list[str], kind: str) -> str | None:
     return text
 
 
-def _read_boundary(index: int, table: dict, problems: list[str]) -> BoundaryCondition | None:
+def _read_boundary(
+    index: int, table: dict, problems: list[str], axes: str
+) -> BoundaryCondition | None:
+    """One [[boundary]] table; `axes` "xy", or "xyz" for a part in space (a third number of
+    a displacement or traction, a roller holding z or several components)."""
     prefix = f"boundary[{index}]"
     valid = ("name", "kind", "displacement", "traction", "component", "value")
     check_keys(prefix, table, valid, problems)
@@ -624,19 +663,26 @@ def _read_boundary(index: int, table: dict, problems: list[str]) -> BoundaryCond
         value = table.get(needed)
         if (
             not isinstance(value, list)
-            or len(value) != 2
+            or not 2 <= len(value) <= len(axes)
             or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in value)
             or not all(math.isfinite(v) for v in value)
         ):
             unit = "mm" if needed == "displacement" else "N/mm"
-            problems.append(f"{prefix}.{needed}: required, two numbers [x, y] in {unit}")
+            numbers = "two numbers [x, y]" if axes == "xy" else "two or three numbers [x, y, z]"
+            problems.append(f"{prefix}.{needed}: required, {numbers} in {unit}")
             return None
-        vector = (float(value[0]), float(value[1]))
+        vector = tuple(float(v) for v in value)
     component = table.get("component", "x")
     if kind != "roller" and ("component" in table or "value" in table):
         problems.append(f"{prefix}: component and value belong to kind 'roller'")
-    if component not in COMPONENTS:
-        problems.append(f"{prefix}.component: {component!r} is not x or y")
+    if (
+        not isinstance(component, str)
+        or not component
+        or any(c not in axes for c in component)
+        or len(set(component)) != len(component)
+    ):
+        valid = "x or y" if axes == "xy" else "x, y or z (or several once, e.g. 'yz')"
+        problems.append(f"{prefix}.component: {component!r} is not {valid}")
         component = "x"
     value = table.get("value", 0.0)
     if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):

@@ -1,6 +1,7 @@
 """A thin-walled closed-end tube under internal pressure (orthotropic SVK, course around the
 circumference, on a curved gmsh surface): hoop force p r, axial force p R^2 / (2 r), and the
-radius and length from the SVK law; the same answer on 1 and 2 MPI ranks."""
+radius and length from the SVK law; the same answer on 1 and 2 MPI ranks. A tube of two
+regions selected along its axis (z): each far from the joint takes its own material's state."""
 
 import json
 import math
@@ -19,6 +20,7 @@ from fabric_dolfinx.part.fields import PartFields
 from fabric_dolfinx.part.problem import PartProblem
 from fabric_dolfinx.part.regions import Region
 from fabric_dolfinx.solve import SolverOptions
+from fabric_dolfinx.spec.expression import SPACE, FieldExpression
 from fabric_dolfinx.spec.part import BoundaryCondition
 from fabric_dolfinx.spec.space import SpaceSpec
 
@@ -30,14 +32,14 @@ AROUND = math.ceil(0.5 * math.pi * RADIUS / SIZE)  # facets per quadrant
 FACETED = math.cos(0.25 * math.pi / AROUND)  # apothem / circumradius of the faceted tube
 
 
-def quarter_tube(comm=None):
+def quarter_tube(comm=None, regions=None, length=LENGTH):
     """A quadrant with symmetry conditions; the closed end's axial force p pi R^2 as the dead
-    load p R / 2 per length on the top edge."""
+    load p R / 2 per length on the top edge. One region of SVK unless `regions` are given."""
     kwargs = {} if comm is None else {"comm": comm}
-    tagged = tube_mesh(RADIUS, LENGTH, SIZE, quarter=True, **kwargs)
+    tagged = tube_mesh(RADIUS, length, SIZE, quarter=True, **kwargs)
     return PartProblem(
         tagged,
-        [Region("fabric", svk_material(SVK))],
+        regions or [Region("fabric", svk_material(SVK))],
         [
             BoundaryCondition("bottom", "roller", component="z"),
             BoundaryCondition("x0", "roller", component="x"),
@@ -49,10 +51,17 @@ def quarter_tube(comm=None):
     )
 
 
-def expected_stretches(faceted: float) -> np.ndarray:
+def expected_stretches(
+    faceted: float, svk: OrthotropicSVK = SVK, shoulder: float | None = None
+) -> np.ndarray:
     """(hoop, axial) stretches of the uniform state: S = C E with S11 = sigma_t l_z / l_t,
-    S22 = sigma_z l_t / l_z, sigma_t = p r `faceted` (r = l_t R), sigma_z = p R / (2 l_t)."""
-    matrix = SVK.plane_stress_matrix()
+    S22 = sigma_z l_t / l_z, sigma_t = p r `faceted` (r = l_t R), sigma_z = p R / (2 l_t).
+
+    With `shoulder` (the hoop stretch of the part of the tube between this one and the loaded
+    end), the pressure on the shoulder between the two adds to the axial force: p times the
+    difference of the two faceted quadrants' areas, AROUND r^2 sin(pi / (2 AROUND)) / 2."""
+    matrix = svk.plane_stress_matrix()
+    chords = 2 * AROUND * math.sin(0.25 * math.pi / AROUND)  # per unit radius
 
     def equations(stretch):
         hoop, axial = stretch
@@ -60,6 +69,9 @@ def expected_stretches(faceted: float) -> np.ndarray:
         stress = matrix[:2, :2] @ strain
         sigma_hoop = PRESSURE * RADIUS * hoop * faceted
         sigma_axial = PRESSURE * RADIUS / (2 * hoop)
+        if shoulder is not None:
+            area = 0.5 * AROUND * math.sin(0.5 * math.pi / AROUND) * (hoop**2 - shoulder**2)
+            sigma_axial += PRESSURE * RADIUS * area / (chords * hoop)
         return [stress[0] - sigma_hoop * axial / hoop, stress[1] - sigma_axial * hoop / axial]
 
     return scipy.optimize.fsolve(equations, [1.0, 1.0], xtol=1e-13)
@@ -130,3 +142,29 @@ def test_one_and_two_ranks_agree(tmp_path):
     assert [r["ranks"] for r in runs] == [1, 2]
     np.testing.assert_allclose(runs[1]["bottom"], runs[0]["bottom"], rtol=1e-9, atol=1e-14)
     np.testing.assert_allclose(runs[1]["peak"], runs[0]["peak"], rtol=1e-9)
+
+
+def test_a_band_selected_along_the_axis_takes_its_own_material_away_from_the_joint():
+    """The lower half (z < 30 mm, a region `where` on z) half as stiff around the tube: away
+    from the joint at z = 30 each half is the uniform tube of its own material, the lower
+    one with the axial force of the pressure on the shoulder between them added."""
+    band = OrthotropicSVK(
+        course_stiffness=1.0, wale_stiffness=1.0, poissons_ratio=0.3, shear_stiffness=0.3
+    )
+    length = 60.0
+    regions = [
+        Region("fabric", svk_material(SVK)),
+        Region("band", svk_material(band), where=FieldExpression("z < 30", "where", SPACE)),
+    ]
+    problem = quarter_tube(regions=regions, length=length)
+    problem.run()
+    layers = np.round(problem.cells.centres[:, 2] / SIZE - 0.5).astype(int)
+    np.testing.assert_array_equal(problem.cells.index, (layers < 30 / SIZE).astype(int))
+    points = problem.u.function_space.tabulate_dof_coordinates()
+    deformed = points + problem.u.x.array.reshape(-1, 3)
+    radius = np.hypot(deformed[:, 0], deformed[:, 1]) / RADIUS
+    stiff, _ = expected_stretches(FACETED)
+    soft, _ = expected_stretches(FACETED, band, shoulder=stiff)
+    np.testing.assert_allclose(radius[points[:, 2] >= 50.0], stiff, rtol=1e-6)
+    np.testing.assert_allclose(radius[points[:, 2] <= 10.0], soft, rtol=1e-6)
+    assert soft - 1 > 1.8 * (stiff - 1)

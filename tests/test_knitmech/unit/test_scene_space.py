@@ -7,11 +7,13 @@ import json
 import tomllib
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from knitmech.cli import main
 from knitmech.fidelity import fidelity_level
 from knitmech.scene import SceneError, scene_from_dict
+from knitmech.scene.fabric import part_problems
 
 EXAMPLES = Path(__file__).resolve().parents[3] / "examples"
 BASE = {
@@ -27,6 +29,12 @@ BASE = {
 }
 SPHERE = {"radius": 5.0, "centre": [0.0, 0.0, -5.0], "travel": [0.0, 0.0, 3.0], "penalty": 10.0}
 PLANE = {"shape": "plane", "point": [0, 0, 2.0], "normal": [0, 0, -1], "travel": [0, 0, -2.0]}
+SVK = {
+    "course_stiffness": 0.2,
+    "wale_stiffness": 0.4,
+    "poissons_ratio": 0.2,
+    "shear_stiffness": 0.05,
+}
 REVOLUTION = {"shape": "revolution", "profile": [[0, 5.0], [10, 6.0]], "start_scale": 0.5}
 
 
@@ -205,3 +213,77 @@ def test_the_fabric_job_in_space_survives_its_json_round_trip(indenter):
     part = scene.resolved(fidelity_level("fast")).part
     job = FabricJob(part, (RegionMaterial(svk={"course_stiffness": 2.0}),), steps=4)
     assert FabricJob.from_json(json.loads(json.dumps(job.to_json()))) == job
+
+
+TUBE = {
+    **BASE,
+    "fabric": {**BASE["fabric"], "shape": {"kind": "tube", "radius": 20.0, "length": 100.0}},
+    "boundary": [{"name": "bottom", "kind": "clamp"}],
+    "space": {},
+}
+
+
+def test_regions_in_space_may_select_along_z_and_plane_regions_may_not():
+    cuff = {"name": "cuff", "where": "z < 20", "pattern": "rib1x1"}
+    scene = scene_from_dict({**TUBE, "region": [{"name": "fabric"}, cuff]})
+    assert [region.where for region in scene.part.regions] == [None, "z < 20"]
+    assert scene.part.coordinates == ("x", "y", "z")
+    flat = {**BASE, "region": [{"name": "fabric"}, {**cuff, "angle": "z"}]}
+    assert problems_of(flat) == [
+        "region[1].where: 'z < 20' uses the unknown name 'z' (valid: x, y, pi, sin, cos, tan, "
+        "arctan2, sqrt, exp, log, abs, minimum, maximum, where, clip)",
+        "region[1].angle: 'z' uses the unknown name 'z' (valid: x, y, pi, sin, cos, tan, "
+        "arctan2, sqrt, exp, log, abs, minimum, maximum, where, clip)",
+    ]
+
+
+def test_a_tube_region_that_selects_nothing_is_refused_before_anything_runs():
+    """The tube is not meshed before the run: its regions are checked on a grid of points on
+    its surface: 101 points on each of 101 rings at the centres of equal lengths of its axis."""
+    regions = [{"name": "fabric"}, {"name": "cuff", "where": "z > 99.6", "svk": SVK}]
+    scene = scene_from_dict({**TUBE, "region": regions})
+    assert part_problems(scene.resolved(fidelity_level("fast")).part) == [
+        "region[1]: 'cuff' holds no cell of the mesh (10201 cells; a later region may have "
+        "taken them, or its where selects no cell centre)"
+    ]
+    regions[1]["where"] = "z > 99.4"
+    scene = scene_from_dict({**TUBE, "region": regions})
+    assert part_problems(scene.resolved(fidelity_level("fast")).part) == []
+    regions[0]["where"] = "z < 50"
+    regions[1]["where"] = "z > 60"
+    scene = scene_from_dict({**TUBE, "region": regions})
+    rings = (np.arange(101) + 0.5) * 100.0 / 101
+    between = 101 * np.count_nonzero((rings >= 50) & (rings <= 60))
+    assert part_problems(scene.resolved(fidelity_level("fast")).part) == [
+        f"region: {between} cells belong to no region (physical surfaces not listed: none); "
+        "add a region for them"
+    ]
+
+
+def test_boundaries_in_space_take_z_and_plane_boundaries_do_not():
+    boundaries = [
+        {"name": "bottom", "kind": "roller", "component": "z"},
+        {"name": "top", "kind": "displacement", "displacement": [0.0, 0.0, 5.0]},
+    ]
+    scene = scene_from_dict({**TUBE, "boundary": boundaries})
+    bottom, top = scene.part.boundaries
+    assert (bottom.component, top.vector) == ("z", (0.0, 0.0, 5.0))
+    rim = [
+        {"name": "rim", "kind": "roller", "component": "z"},
+        {"name": "rim", "kind": "displacement", "displacement": [0.0, 0.0, 5.0]},
+    ]
+    problems = problems_of({**BASE, "boundary": rim})
+    assert "boundary[0].component: 'z' is not x or y" in problems
+    assert "boundary[1].displacement: required, two numbers [x, y] in mm" in problems
+    wrong = [{"name": "bottom", "kind": "roller", "component": "zz"}]
+    assert problems_of({**TUBE, "boundary": wrong}) == [
+        "boundary[0].component: 'zz' is not x, y or z (or several once, e.g. 'yz')"
+    ]
+
+
+def test_a_graded_stitch_in_space_is_refused_when_the_scene_is_read():
+    graded = {"name": "fabric", "stitch": "4.5 + z / 50"}
+    assert problems_of({**TUBE, "region": [graded]}) == [
+        "region[0].stitch: a graded stitch is not available for the membrane in space yet (a "
+        "graded sleeve: knitmech design, docs/design.md)"
+    ]
