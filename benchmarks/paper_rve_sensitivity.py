@@ -4,7 +4,8 @@ Each row varies ONE ingredient, from the paper's section model (`bending="sectio
 the default (free-fibre bending), and is compared with the group's data at stitch 4.5, 5.5
 and 6.5 (`rve_rod.rve.paper_comparison`): along their 12 biaxial rays at every converged state
 of theirs (rays within the 20 % target; the median over the rays of each ray's worst error;
-the mean error at the first state, which measures the stiffness at rest), their picture-frame
+the mean error at the first state, which measures the stiffness at rest; below each row C at
+rest and the median over the rays of `first_increment_ratio`: slack or taut), their picture-frame
 shear (the error at their state 6, 20 degrees, and 12, 40 degrees), and the uniaxial forces and
 Poisson ratios at 20 % against their readings. The last rows combine ingredients; the rows
 "prestrain" and "natural length" are the taut-loop experiment (a yarn shorter than its loop,
@@ -42,6 +43,7 @@ from rve_rod.rve.load_cases import BiaxialRay, LoadCase
 from rve_rod.rve.paper_comparison import (
     AXIS_RAYS,
     compare_run,
+    first_increment_ratio,
     run_or_history,
     secant_at_rest,
     uniaxial_comparison,
@@ -293,6 +295,16 @@ def measure(variant: Variant, stitch: float, control_points: int) -> dict:
         else np.full((2, 2), np.nan)
         for pairs in ([rays[k] for k in axes], [theirs[k] for k in axes])
     ]
+    ratios = np.array(
+        [
+            [
+                first_increment_ratio(ray.reference.deformation, np.diagonal(s, axis1=1, axis2=2))
+                for s in (ray.second_piola, ray.reference.second_piola)
+            ]
+            for ray in rays
+            if ray.states >= 2 and ray.reached >= 2
+        ]
+    ).reshape(-1, 2)
     rays = [ray for ray in rays if ray.states]
     worst = np.array([ray.worst() for ray in rays])
     first = np.array([ray.errors()[0] for ray in rays])
@@ -306,6 +318,7 @@ def measure(variant: Variant, stitch: float, control_points: int) -> dict:
         "shear": (float(shear[5]), float(shear[11])),
         "uniaxial": uniaxial,
         "rest": rest,
+        "increments": np.median(ratios, axis=0) if len(ratios) else np.full(2, np.nan),
     }
 
 
@@ -345,7 +358,12 @@ def main():
                 flush=True,
             )
             ours, theirs = (units.n_per_mm_to_gf_per_cm(c).round(0).tolist() for c in row["rest"])
-            print(f"  C at rest (gf/cm): ours {ours}, theirs {theirs}", flush=True)
+            increments = " / ".join(f"{r:.2f}" for r in row["increments"])
+            print(
+                f"  C at rest (gf/cm): ours {ours}, theirs {theirs}; first / second increment "
+                f"(median of the rays), ours / theirs: {increments}",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":

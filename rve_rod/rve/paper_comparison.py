@@ -13,7 +13,8 @@ got (the rest is NaN and counts as a failure).
 
 `uniaxial_comparison(fabric, settings)` gives our uniaxial course- and wale-wise forces and
 Poisson ratios at the strains of `paper_data.UNIAXIAL_READINGS`; `secant_at_rest` the secant
-stiffness at rest through the first states of their two rays nearest the axes (`AXIS_RAYS`).
+stiffness at rest through the first states of their two rays nearest the axes (`AXIS_RAYS`);
+`first_increment_ratio` whether a ray starts slack (and stiffens) or taut.
 """
 
 import time
@@ -35,6 +36,7 @@ __all__ = [
     "RunComparison",
     "UniaxialComparison",
     "compare_run",
+    "first_increment_ratio",
     "run_case",
     "run_or_history",
     "secant_at_rest",
@@ -202,3 +204,16 @@ def secant_at_rest(rays: list[GroupRun], stresses: np.ndarray) -> np.ndarray:
     Lagrange strains), given the (2,) diagonal stresses S (N/mm) there, one row per ray."""
     strains = np.array([np.diagonal(green_lagrange(ray.deformation[0])) for ray in rays])
     return np.linalg.solve(strains, np.asarray(stresses)).T
+
+
+def first_increment_ratio(deformation: np.ndarray, stresses: np.ndarray) -> float:
+    """The secant stiffness from rest to the first state over the stiffness of the next
+    increment, |S_1| / |E_1| over |S_2 - S_1| / |E_2 - E_1| with S = (S11, S22), E = (E11,
+    E22), from F (k >= 2, 2, 2) and the diagonal stresses (k, 2) of the first states of a
+    ray: 1 for a linear response, below 1 where the ray starts slack and stiffens, above 1
+    where it starts taut and gives way."""
+    strains = np.array([np.diagonal(green_lagrange(f)) for f in deformation[:2]])
+    stresses = np.asarray(stresses)[:2]
+    first = np.linalg.norm(stresses[0]) / np.linalg.norm(strains[0])
+    second = np.linalg.norm(stresses[1] - stresses[0]) / np.linalg.norm(strains[1] - strains[0])
+    return float(first / second)

@@ -4,7 +4,13 @@ import numpy as np
 import pytest
 
 from rve_rod.presets import load_preset
-from rve_rod.rve.paper_comparison import AXIS_RAYS, RunComparison, compare_run, secant_at_rest
+from rve_rod.rve.paper_comparison import (
+    AXIS_RAYS,
+    RunComparison,
+    compare_run,
+    first_increment_ratio,
+    secant_at_rest,
+)
 from rve_rod.rve.paper_data import biaxial_rays, shear_run
 from rve_rod.rve.simulation import RveSettings
 from rve_rod.stress_measures import green_lagrange
@@ -81,3 +87,19 @@ def test_the_secant_at_rest_of_a_linear_material_is_its_stiffness():
     theirs = [np.diagonal(ray.second_piola[0]) for ray in rays]
     secant = n_per_mm_to_gf_per_cm(secant_at_rest(rays, theirs))
     np.testing.assert_allclose(secant, [[280, 297], [348, 859]], atol=0.5)
+
+
+def test_the_first_increment_ratio_is_one_when_linear_and_tells_stiffening_from_yielding():
+    """Along a ray E_k = k e: S = C E gives 1; S = C E (1 + b |E|) gives (1 + b |e|) / (1 +
+    3 b |e|) (below 1 for b > 0, stiffening; above 1 for b < 0, giving way)."""
+    ray = biaxial_rays(5.5)[6]  # equibiaxial: E keeps its direction
+    assert ray.angle_deg == pytest.approx(45.0)
+    strains = np.array([np.diagonal(green_lagrange(f)) for f in ray.deformation[:2]])
+    stiffness = np.array([[2.0, 0.7], [0.9, 5.0]])
+    assert first_increment_ratio(ray.deformation, strains @ stiffness.T) == pytest.approx(1.0)
+    e = np.linalg.norm(strains[0])
+    ray_f = np.array([np.diag(np.sqrt(1 + 2 * k * strains[0])) for k in (1, 2)])
+    for b in (5.0, -5.0):
+        stresses = [stiffness @ (k * strains[0]) * (1 + b * k * e) for k in (1, 2)]
+        expected = (1 + b * e) / (1 + 3 * b * e)
+        assert first_increment_ratio(ray_f, stresses) == pytest.approx(expected, rel=1e-12)
