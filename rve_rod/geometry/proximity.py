@@ -16,6 +16,7 @@ import numpy as np
 import scipy.spatial
 
 from rve_rod.errors import InputError, check_integer
+from rve_rod.geometry._kernels import Chain, Pairs, refine_pairs
 from rve_rod.geometry.bspline import BasisValues, BSplineCurve, basis_functions
 
 __all__ = [
@@ -79,6 +80,8 @@ class _Chain:
         self.knots = first.knots
         self.control_points = np.stack([curve.control_points for curve in curves])
         self.period = period
+        self.arrays = Chain(self.control_points, np.asarray(self.knots, dtype=float), period)
+        """The chain as `rve_rod.geometry._kernels` takes it."""
 
     def evaluate(self, s: np.ndarray, order: int = 0, basis=None) -> np.ndarray:
         """Points and derivatives with respect to s, shape (order+1, m, 3); `basis` may hold
@@ -154,7 +157,7 @@ def chain_clearance(
     shifts = np.array([images[k][0] for k in columns])
     partners = np.array([np.argmin(distances[a, k]) for a, k in zip(rows, columns, strict=True)])
     offsets = np.array([images[k][1] * lattice[1] for k in columns])
-    found, first, second = _refine(chain, s[chosen][rows], s[partners] + shifts * n, offsets)
+    found, first, second = _refine(chain, chain, s[chosen][rows], s[partners] + shifts * n, offsets)
     best = int(np.argmin(found))
     return ChainClearance(
         float(found[best]),
@@ -229,7 +232,8 @@ def cell_clearance(
                 [np.argmin(blocks[k][a]) for a, k in zip(rows, columns, strict=True)], dtype=int
             )
             found, first, second = _refine(
-                _ChainPair(chains[m], chains[n]),
+                chains[m],
+                chains[n],
                 params[m][rows],
                 params[n][partners],
                 offsets[columns],
@@ -298,20 +302,6 @@ def _arc_at(s: np.ndarray, params: np.ndarray, arcs: np.ndarray, period: float) 
     return np.interp(s - turns * curves, xp, fp) + turns * period
 
 
-class _ChainPair:
-    """Two chains evaluated as one for `_refine`: the first half of the parameters on the
-    first chain, the second half on the second (pairs across two yarns)."""
-
-    def __init__(self, first: _Chain, second: _Chain):
-        self.first, self.second = first, second
-
-    def evaluate(self, s: np.ndarray, order: int = 0) -> np.ndarray:
-        half = s.size // 2
-        return np.concatenate(
-            [self.first.evaluate(s[:half], order), self.second.evaluate(s[half:], order)], axis=1
-        )
-
-
 @cache
 def _sample_basis(degree: int, knots: tuple[float, ...], curves: int) -> BasisValues:
     """Basis functions at the sample parameters of every curve (the same for each search)."""
@@ -320,59 +310,24 @@ def _sample_basis(degree: int, knots: tuple[float, ...], curves: int) -> BasisVa
 
 
 def _refine(
-    chain: _Chain, s: np.ndarray, t: np.ndarray, offsets: np.ndarray
+    first: _Chain, second: _Chain, s: np.ndarray, t: np.ndarray, offsets: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Local minima of |X(s) - X(t) - offset| near each pair (s, t), all pairs at once.
+    """Local minima of |X(s) - Y(t) - offset| near each pair (s, t), X on the chain `first`,
+    Y on `second` (the same chain for a yarn against its own images), offsets (k, 3) (mm).
 
     Newton's method (saddle-free: the Hessian's eigenvalues by their magnitudes) with a trust
     region of four sample spacings and step halving: nearly parallel or wrapping yarns make
     the distance flat along a valley, so a minimum may lie several samples away from its
-    sampled pair. Returns (distances, s, t), each of shape (k,).
+    sampled pair. A yarn wrapping around another at about the distance gives long, curved
+    valleys in which steepest descent crawls; where the distance is convex the step is
+    Newton's. Compiled, pair by pair (`rve_rod.geometry._kernels.refine_pairs`). Returns
+    (distances, s, t), each of shape (k,).
     """
-    k = s.size
-
-    def distance(first: np.ndarray, second: np.ndarray, shift: np.ndarray) -> np.ndarray:
-        values = chain.evaluate(np.concatenate([first, second]))[0]
-        return np.linalg.norm(values[: first.size] - values[first.size :] - shift, axis=1)
-
-    s, t = s.astype(float), t.astype(float)
-    current = distance(s, t, offsets)
-    limit = 4.0 / _SAMPLES_PER_CURVE
-    active = np.ones(k, dtype=bool)
-    for _ in range(_NEWTON_ITERATIONS):
-        if not active.any():
-            break
-        values = chain.evaluate(np.concatenate([s, t]), 2)
-        d = values[0, :k] - values[0, k:] - offsets
-        xs, xt = values[1, :k], values[1, k:]
-        gradient = np.stack([np.sum(d * xs, 1), -np.sum(d * xt, 1)], axis=1)
-        hessian = np.empty((k, 2, 2))
-        hessian[:, 0, 0] = np.sum(xs * xs, 1) + np.sum(d * values[2, :k], 1)
-        hessian[:, 1, 1] = np.sum(xt * xt, 1) - np.sum(d * values[2, k:], 1)
-        hessian[:, 0, 1] = hessian[:, 1, 0] = -np.sum(xs * xt, 1)
-        # Newton's step with the Hessian's eigenvalues replaced by their magnitudes: the same
-        # where the distance is convex, and a descent step that follows the negative
-        # curvature where it is not (a yarn wrapping around another at about the distance
-        # gives long, curved valleys in which steepest descent crawls)
-        curvature, axes = np.linalg.eigh(hessian)
-        magnitude = np.maximum(np.abs(curvature), 1e-12 * np.abs(curvature).max(1, keepdims=True))
-        along = np.einsum("kji,kj->ki", axes, gradient) / np.maximum(magnitude, 1e-300)
-        step = -np.einsum("kij,kj->ki", axes, along)
-        largest = np.abs(step).max(axis=1)
-        step *= np.minimum(1.0, limit / np.maximum(largest, 1e-300))[:, None]
-        step[~active] = 0.0
-        trial = distance(s + step[:, 0], t + step[:, 1], offsets)
-        for _ in range(6):  # halve the steps that do not decrease the distance
-            worse = active & (trial > current)
-            if not worse.any():
-                break
-            step[worse] *= 0.5
-            trial[worse] = distance(
-                s[worse] + step[worse, 0], t[worse] + step[worse, 1], offsets[worse]
-            )
-        accepted = active & (trial <= current)
-        improvement = np.where(accepted, current - trial, 0.0)
-        s, t = s + np.where(accepted, step[:, 0], 0.0), t + np.where(accepted, step[:, 1], 0.0)
-        current = np.where(accepted, trial, current)
-        active = accepted & (np.abs(step).max(axis=1) > 1e-12) & (improvement > 1e-15 * current)
-    return current, s, t
+    pairs = Pairs(
+        s.astype(float),
+        t.astype(float),
+        np.ascontiguousarray(offsets.T, dtype=float),
+        np.empty(s.size),
+    )
+    refine_pairs(first.arrays, second.arrays, pairs, 4.0 / _SAMPLES_PER_CURVE, _NEWTON_ITERATIONS)
+    return pairs.distances, pairs.first, pairs.second
