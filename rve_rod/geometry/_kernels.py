@@ -1,13 +1,15 @@
-"""Numba kernels of the geometry: the Newton refinement of the clearance search's closest pairs.
+"""Numba kernels of the clearance search (`rve_rod.geometry.proximity`): the nearest sample
+of another yarn's image to each sample of a yarn, and the Newton refinement of the closest
+pairs.
 
-The clearance search (`rve_rod.geometry.proximity`) refines a few dozen sampled pairs per call,
-a few thousand calls per relaxed cell; as NumPy over the pairs, per-call overhead made it 60 %
-of the relaxed cell's time (docs/benchmarks.md). The kernel does the same arithmetic in the
-same order, pair by pair (B-spline basis by The NURBS Book's A2.3 as
-`rve_rod.geometry.bspline.basis_functions`, sums over the components and basis functions in
-index order, the Hessian's eigenpairs by LAPACK's dsyevd as `numpy.linalg.eigh`), so its
-results are NumPy's bit for bit: tests/test_rve_rod/unit/test_geometry_kernels.py checks it
-against the plain NumPy reference (tests/support/proximity_reference.py).
+A relaxed cell runs a few thousand clearance searches; as NumPy their per-call overhead and
+full sample-distance matrices made most of its time (docs/benchmarks.md). The kernels do the
+same arithmetic in the same order (distances as `scipy.spatial.distance.cdist`'s, B-spline
+basis by The NURBS Book's A2.3 as `rve_rod.geometry.bspline.basis_functions`, sums over the
+components and basis functions in index order, the Hessian's eigenpairs by LAPACK's dsyevd as
+`numpy.linalg.eigh`), so their results are NumPy's bit for bit:
+tests/test_rve_rod/unit/test_geometry_kernels.py checks them against plain NumPy references
+(tests/support/proximity_reference.py).
 """
 
 from typing import NamedTuple
@@ -51,6 +53,37 @@ class Pairs(NamedTuple):
     distances: np.ndarray
 
 
+@record
+class Samples(NamedTuple):
+    """The sampled points of two yarns, for `nearest_samples`.
+
+    Attributes:
+        first: (a, 3) samples of the first yarn (mm).
+        second: (b, 3) samples of the second yarn, before the image offset (mm).
+        first_arcs: (a,) arc coordinate of each sample of the first yarn (mm).
+        second_arcs: (b,) the same for the second yarn (mm).
+    """
+
+    first: np.ndarray
+    second: np.ndarray
+    first_arcs: np.ndarray
+    second_arcs: np.ndarray
+
+
+@record
+class Nearest(NamedTuple):
+    """Output of `nearest_samples`: for each sample of the first yarn, the nearest sample of
+    the second yarn's image.
+
+    Attributes:
+        distances: (a,) the distance to it (mm); inf where every sample is adjacent.
+        partners: (a,) int64, its index, the first of equal distances (as numpy.argmin).
+    """
+
+    distances: np.ndarray
+    partners: np.ndarray
+
+
 class _Work(NamedTuple):
     """Work space of the basis functions (A2.3: ndu (p+1, p+1), a (2, p+1), left and right
     (p+1,)), their values (3, p+1), and two chain points with 2 derivatives (3, 3) each."""
@@ -62,6 +95,68 @@ class _Work(NamedTuple):
     basis: np.ndarray
     x: np.ndarray
     y: np.ndarray
+
+
+@njit(cache=True)
+def nearest_samples(samples, offset, shift, adjacent_arc, chunk, out):
+    """The nearest sample of the image (the second yarn's samples + offset) to each sample of
+    the first yarn: the row minima and their first indices of cdist(first, second + offset),
+    with the pairs closer than `adjacent_arc` along the yarn skipped.
+
+    Args:
+        samples: the two yarns' samples (`Samples`).
+        offset: (3,) the image's offset (mm).
+        shift: added to the second yarn's arc coordinates: i L for the image i periods along
+            the same yarn (L the period's arc length) (mm).
+        adjacent_arc: pairs with |arc_first - (arc_second + shift)| below it are skipped (0:
+            none, for another yarn or an image across the courses) (mm).
+        chunk: the second yarn's samples are taken in chunks of this many (a curve's), and a
+            chunk whose bounding box is no nearer than the nearest sample found is skipped:
+            its every distance is at least the box's, in floating point too (rounding is
+            monotonic), so the minima and their first indices are the full matrix's.
+        out: the output (`Nearest`).
+    """
+    first, second = samples.first, samples.second
+    count = second.shape[0]
+    shifted = np.empty((count, 3))
+    for b in range(count):
+        for c in range(3):
+            shifted[b, c] = second[b, c] + offset[c]
+    chunks = (count + chunk - 1) // chunk
+    low = np.full((chunks, 3), np.inf)
+    high = np.full((chunks, 3), -np.inf)
+    for b in range(count):
+        for c in range(3):
+            low[b // chunk, c] = min(low[b // chunk, c], shifted[b, c])
+            high[b // chunk, c] = max(high[b // chunk, c], shifted[b, c])
+    partner = 0
+    for a in range(first.shape[0]):
+        best, best_index = np.inf, 0
+        # the previous row's partner first: a near distance that lets most chunks be skipped
+        for b in (partner, -1):
+            start, stop = (b, b + 1) if b >= 0 else (0, count)
+            for g in range(start // chunk, (stop - 1) // chunk + 1):
+                if b < 0:
+                    bound = 0.0
+                    for c in range(3):
+                        gap = max(low[g, c] - first[a, c], first[a, c] - high[g, c], 0.0)
+                        bound += gap * gap
+                    if np.sqrt(bound) > best:
+                        continue
+                for q in range(max(start, g * chunk), min(stop, (g + 1) * chunk)):
+                    if adjacent_arc > 0.0 and (
+                        abs(samples.first_arcs[a] - (samples.second_arcs[q] + shift)) < adjacent_arc
+                    ):
+                        continue
+                    total = 0.0
+                    for c in range(3):
+                        d = first[a, c] - shifted[q, c]
+                        total += d * d
+                    distance = np.sqrt(total)
+                    if distance < best or (distance == best and q < best_index):
+                        best, best_index = distance, q
+        out.distances[a], out.partners[a] = best, best_index
+        partner = best_index
 
 
 @njit(cache=True)

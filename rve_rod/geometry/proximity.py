@@ -13,10 +13,16 @@ from functools import cache
 from typing import NamedTuple
 
 import numpy as np
-import scipy.spatial
 
 from rve_rod.errors import InputError, check_integer
-from rve_rod.geometry._kernels import Chain, Pairs, refine_pairs
+from rve_rod.geometry._kernels import (
+    Chain,
+    Nearest,
+    Pairs,
+    Samples,
+    nearest_samples,
+    refine_pairs,
+)
 from rve_rod.geometry.bspline import BasisValues, BSplineCurve, basis_functions
 
 __all__ = [
@@ -136,15 +142,14 @@ def chain_clearance(
         images = [(i, j) for j in range(-2, 3) for i in (-1, 0, 1)]
         chosen = np.arange(_SAMPLES_PER_CURVE) + from_curve * _SAMPLES_PER_CURVE
     offsets = np.array([i * lattice[0] + j * lattice[1] for i, j in images])
-    shifted = (points[None, :, :] + offsets[:, None, :]).reshape(-1, 3)
-    distances = scipy.spatial.distance.cdist(points[chosen], shifted).reshape(
-        chosen.size, len(images), points.shape[0]
-    )
-    for k, (i, j) in enumerate(images):
-        if j == 0:  # along the yarn, the image (i, 0) is the same yarn i periods further on
-            along = np.abs(arc[chosen, None] - (arc[None, :] + i * period_length))
-            distances[:, k, :][along < adjacent_arc] = np.inf
-    nearest = distances.min(axis=2)  # (samples, images): distance to the nearest image sample
+    samples = Samples(points[chosen], points, arc[chosen], arc)
+    # along the yarn (j = 0) the image (i, 0) is the same yarn i periods further on
+    blocks = [
+        _nearest_samples(samples, offsets[k], i * period_length, adjacent_arc if j == 0 else 0.0)
+        for k, (i, j) in enumerate(images)
+    ]
+    # (samples, images): distance to the nearest image sample
+    nearest = np.column_stack([block.distances for block in blocks])
     overall = nearest.min()
     # a sampled pair overestimates a distance by about spacing^2 / distance: every local
     # minimum along the yarn within that of the best may hide the true minimum
@@ -155,7 +160,7 @@ def chain_clearance(
     local = (nearest <= previous) & (nearest <= following) & (nearest <= overall + slack)
     rows, columns = np.nonzero(local)
     shifts = np.array([images[k][0] for k in columns])
-    partners = np.array([np.argmin(distances[a, k]) for a, k in zip(rows, columns, strict=True)])
+    partners = np.array([blocks[k].partners[a] for a, k in zip(rows, columns, strict=True)])
     offsets = np.array([images[k][1] * lattice[1] for k in columns])
     found, first, second = _refine(chain, chain, s[chosen][rows], s[partners] + shifts * n, offsets)
     best = int(np.argmin(found))
@@ -203,13 +208,15 @@ def cell_clearance(
         for n in range(m, len(yarns)):
 
             def block(k, m=m, n=n):
-                """Sample distances of yarn m to image k of yarn n, (samples m, samples n)."""
-                distances = scipy.spatial.distance.cdist(points[m], points[n] + offsets[k])
+                """The nearest sample of image k of yarn n to each sample of yarn m."""
                 i, j = images[k]
-                if m == n and j == 0:  # the same yarn, i periods further on
-                    along = np.abs(arcs[m][:, None] - (arcs[n][None, :] + i * periods[n]))
-                    distances[along < adjacent_arc] = np.inf
-                return distances
+                along = m == n and j == 0  # the same yarn, i periods further on
+                return _nearest_samples(
+                    Samples(points[m], points[n], arcs[m], arcs[n]),
+                    offsets[k],
+                    i * periods[n],
+                    adjacent_arc if along else 0.0,
+                )
 
             blocks = _near_images(
                 block,
@@ -217,7 +224,7 @@ def cell_clearance(
                 lambda overall: 2 * spacing**2 / max(overall, 1e-300) + 1e-3 * overall,
             )
             far = np.full(points[m].shape[0], np.inf)
-            nearest = np.column_stack([far if b is None else b.min(axis=1) for b in blocks])
+            nearest = np.column_stack([far if b is None else b.distances for b in blocks])
             overall = nearest.min()
             if not np.isfinite(overall):
                 continue
@@ -229,7 +236,7 @@ def cell_clearance(
             )
             rows, columns = np.nonzero(local)
             partners = np.array(
-                [np.argmin(blocks[k][a]) for a, k in zip(rows, columns, strict=True)], dtype=int
+                [blocks[k].partners[a] for a, k in zip(rows, columns, strict=True)], dtype=int
             )
             found, first, second = _refine(
                 chains[m],
@@ -256,6 +263,17 @@ def cell_clearance(
     return best
 
 
+def _nearest_samples(
+    samples: Samples, offset: np.ndarray, shift: float, adjacent_arc: float
+) -> Nearest:
+    """The nearest sample of an image to each sample of a yarn (`_kernels.nearest_samples`,
+    the samples taken a curve's at a time)."""
+    count = samples.first.shape[0]
+    nearest = Nearest(np.empty(count), np.empty(count, dtype=np.int64))
+    nearest_samples(samples, offset, shift, adjacent_arc, _SAMPLES_PER_CURVE, nearest)
+    return nearest
+
+
 def _box_gaps(first: np.ndarray, second: np.ndarray, offsets: np.ndarray) -> np.ndarray:
     """A lower bound of the distance between the points `first` (a, 3) and each image of
     `second` (b, 3) shifted by `offsets` (k, 3): the gaps between their bounding boxes, less a
@@ -268,20 +286,20 @@ def _box_gaps(first: np.ndarray, second: np.ndarray, offsets: np.ndarray) -> np.
     return np.maximum(np.linalg.norm(gaps, axis=1) - 1e-9 * scale, 0.0)
 
 
-def _near_images(block, gaps: np.ndarray, slack) -> list[np.ndarray | None]:
-    """The sample distances to each image (`block(k)`), computed only for the images that can
+def _near_images(block, gaps: np.ndarray, slack) -> list[Nearest | None]:
+    """The nearest samples of each image (`block(k)`), computed only for the images that can
     hold a pair within the search's reach, overall + slack(overall) (overall: the least sample
     distance); None for the others, whose distances all exceed it (their bounding boxes'
     `gaps` do). The least distance lies in the images no farther than the distance found in
     the nearest box, and an image beyond the reach has no local minimum the search takes: the
     search finds what it finds computing every image."""
-    blocks: list[np.ndarray | None] = [None] * gaps.size
+    blocks: list[Nearest | None] = [None] * gaps.size
 
     def compute(chosen) -> float:
         for k in np.flatnonzero(chosen):
             if blocks[k] is None:
                 blocks[k] = block(k)
-        return min((found.min() for found in blocks if found is not None), default=np.inf)
+        return min((found.distances.min() for found in blocks if found is not None), default=np.inf)
 
     found = compute(gaps == gaps.min())
     if not np.isfinite(found):

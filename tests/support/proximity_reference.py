@@ -1,10 +1,21 @@
-"""The clearance search's Newton refinement as plain NumPy over all pairs at once: the
-reference the compiled `rve_rod.geometry._kernels.refine_pairs` is checked against (the
-library's implementation before the kernel, bit for bit the same arithmetic)."""
+"""The clearance search's kernels as plain NumPy/SciPy: the references the compiled
+`rve_rod.geometry._kernels` are checked against (the library's implementations before the
+kernels)."""
 
 import numpy as np
+import scipy.spatial
 
 from rve_rod.geometry import proximity
+
+
+def nearest_reference(samples, offset, shift, adjacent_arc):
+    """(distances, partners) of `_kernels.nearest_samples`: the row minima of the full matrix
+    cdist(first, second + offset), the pairs closer than `adjacent_arc` along the yarn set to
+    inf, and their first indices (numpy.argmin)."""
+    distances = scipy.spatial.distance.cdist(samples.first, samples.second + offset)
+    along = np.abs(samples.first_arcs[:, None] - (samples.second_arcs[None, :] + shift))
+    distances[along < adjacent_arc] = np.inf
+    return distances.min(axis=1), np.argmin(distances, axis=1)
 
 
 def refine_reference(

@@ -1,10 +1,11 @@
-"""The compiled refinement of the clearance search against its plain NumPy reference."""
+"""The compiled kernels of the clearance search against their plain NumPy references."""
 
 import numpy as np
 import pytest
-from support.proximity_reference import refine_reference
+from support.proximity_reference import nearest_reference, refine_reference
 
 from rve_rod.geometry import pattern_cell, proximity
+from rve_rod.geometry._kernels import Samples
 from rve_rod.geometry.loop import single_jersey_loop
 
 
@@ -49,3 +50,53 @@ def test_compiled_refinement_is_the_numpy_reference_bit_for_bit(build, monkeypat
             reference = refine_reference(first, second, start_s, start_t, offsets)
             for found, expected in zip(compiled, reference, strict=True):
                 np.testing.assert_array_equal(found, expected)
+
+
+def cell_samples(pattern, w, c):
+    """The samples of each yarn of a pattern's template cell (as `cell_clearance` takes them),
+    their arc coordinates and period lengths, and the lattice."""
+    cell = pattern_cell.pattern_geometry(pattern, w, c, 0.19).periodic_yarns()
+    found = []
+    for yarn in cell.yarns:
+        chain = proximity._Chain(yarn, cell.lattice[0])
+        s = (np.arange(len(yarn) * proximity._SAMPLES_PER_CURVE) + 0.5) / (
+            proximity._SAMPLES_PER_CURVE
+        )
+        points = chain.evaluate(s)[0]
+        steps = np.linalg.norm(np.diff(points, axis=0, append=points[:1] + cell.lattice[0]), axis=1)
+        found.append((points, np.concatenate([[0.0], np.cumsum(steps)[:-1]]), steps.sum()))
+    return found, cell.lattice
+
+
+@pytest.mark.parametrize(("pattern", "w", "c"), [("garter", 1.12, 1.46), ("seed", 0.83, 1.08)])
+def test_nearest_samples_are_the_full_distance_matrix_minima_bit_for_bit(pattern, w, c):
+    yarns, lattice = cell_samples(pattern, w, c)
+    for m, (points, arcs, period) in enumerate(yarns):
+        for n, (other, other_arcs, _) in enumerate(yarns):
+            samples = Samples(points, other, arcs, other_arcs)
+            for i in (-1, 0, 1):
+                for j in (-1, 0, 1):
+                    along = m == n and j == 0
+                    arguments = (
+                        i * lattice[0] + j * lattice[1],
+                        i * period,
+                        np.pi * w / 8 if along else 0.0,
+                    )
+                    found = proximity._nearest_samples(samples, *arguments)
+                    distances, partners = nearest_reference(samples, *arguments)
+                    np.testing.assert_array_equal(found.distances, distances)
+                    np.testing.assert_array_equal(found.partners, partners)
+
+
+def test_nearest_samples_take_the_first_of_equal_distances_and_skip_adjacent_pairs():
+    # a grid of integer points: many exactly equal distances, in several chunks of samples
+    rng = np.random.default_rng(3)
+    points = rng.integers(-3, 4, size=(300, 3)).astype(float)
+    other = rng.integers(-3, 4, size=(250, 3)).astype(float)
+    arcs, other_arcs = np.arange(300.0), np.arange(250.0)
+    samples = Samples(points, other, arcs, other_arcs)
+    for adjacent in (0.0, 40.0, 1e9):  # none, some, every pair adjacent
+        found = proximity._nearest_samples(samples, np.array([0.5, 0.0, 1.0]), 7.0, adjacent)
+        distances, partners = nearest_reference(samples, np.array([0.5, 0.0, 1.0]), 7.0, adjacent)
+        np.testing.assert_array_equal(found.distances, distances)
+        np.testing.assert_array_equal(found.partners, partners)
