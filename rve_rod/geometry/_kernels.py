@@ -1,16 +1,15 @@
-"""Numba kernels of the geometry: B-spline basis functions (`rve_rod.geometry.bspline`), and
-for the clearance search (`rve_rod.geometry.proximity`) the nearest sample of another yarn's
-image to each sample of a yarn and the Newton refinement of the closest pairs.
+"""Numba kernels of the clearance search (`rve_rod.geometry.proximity`): the nearest sample
+of another yarn's image to each sample of a yarn, and the Newton refinement of the closest
+pairs.
 
-A relaxed cell runs a few thousand clearance searches and loop fits; as NumPy their per-call
-overhead (loops over the degree, a few dozen parameters at a time) and full sample-distance
-matrices made most of its time (docs/benchmarks.md). The kernels do the arithmetic of the
-NumPy versions they replace in the same order (The NURBS Book's A2.3 per parameter,
-distances as `scipy.spatial.distance.cdist`'s, sums over the components and basis functions
-in index order, the Hessian's eigenpairs by LAPACK's dsyevd as `numpy.linalg.eigh`), so
-their results are NumPy's bit for bit:
+A relaxed cell runs a few thousand clearance searches; as NumPy their per-call overhead and
+full sample-distance matrices made most of its time (docs/benchmarks.md). The kernels do the
+same arithmetic in the same order (distances as `scipy.spatial.distance.cdist`'s, B-spline
+basis by The NURBS Book's A2.3 as `rve_rod.geometry.bspline.basis_functions`, sums over the
+components and basis functions in index order, the Hessian's eigenpairs by LAPACK's dsyevd as
+`numpy.linalg.eigh`), so their results are NumPy's bit for bit:
 tests/test_rve_rod/unit/test_geometry_kernels.py checks them against plain NumPy references
-(tests/support/geometry_references.py).
+(`basis_functions`; tests/support/proximity_reference.py for the others).
 """
 
 from typing import NamedTuple
@@ -85,22 +84,15 @@ class Nearest(NamedTuple):
     partners: np.ndarray
 
 
-class _Basis(NamedTuple):
+class _Work(NamedTuple):
     """Work space of the basis functions (A2.3: ndu (p+1, p+1), a (2, p+1), left and right
-    (p+1,)) and their values (derivatives+1, p+1)."""
+    (p+1,)), their values (3, p+1), and two chain points with 2 derivatives (3, 3) each."""
 
     ndu: np.ndarray
     a: np.ndarray
     left: np.ndarray
     right: np.ndarray
-    values: np.ndarray
-
-
-class _Work(NamedTuple):
-    """Work space of the refinement: the basis functions' and two chain points with two
-    derivatives, (3, 3) each."""
-
-    basis: _Basis
+    basis: np.ndarray
     x: np.ndarray
     y: np.ndarray
 
@@ -168,52 +160,18 @@ def nearest_samples(samples, offset, shift, adjacent_arc, chunk, out):
 
 
 @njit(cache=True)
-def basis_values(knots, degree, params, spans, out):
-    """Nonzero basis functions and their derivatives at m parameters (The NURBS Book, A2.3):
-    `rve_rod.geometry.bspline.basis_functions`' kernel.
+def _basis(knots, degree, u, derivatives, work):
+    """Nonzero basis functions at u and their derivatives up to `derivatives` (A2.3).
 
-    Args:
-        knots: the knot vector. degree: p.
-        params: (m,) parameters within the domain. spans: (m,) their knot spans (find_spans).
-        out: (derivatives+1, m, p+1) output, zero: out[k, i, a] = k-th derivative of
-            N_{spans[i]-p+a} at params[i] (derivatives above p stay zero).
+    Writes work.basis[k, j] = k-th derivative of N_{span-p+j}(u) for k <= derivatives,
+    j <= p, and returns the span (as `rve_rod.geometry.bspline.find_spans`, u within the
+    domain).
     """
-    derivatives = min(out.shape[0] - 1, degree)
-    work = _new_basis(degree, derivatives)
-    for i in range(params.size):
-        _basis(knots, degree, params[i], spans[i], derivatives, work)
-        for k in range(derivatives + 1):
-            for a in range(degree + 1):
-                out[k, i, a] = work.values[k, a]
-
-
-@njit(cache=True)
-def _new_basis(degree, derivatives):
-    """Work space of `_basis` up to `derivatives`; the values of derivatives above the degree
-    are zero."""
-    return _Basis(
-        np.empty((degree + 1, degree + 1)),
-        np.empty((2, degree + 1)),
-        np.empty(degree + 1),
-        np.empty(degree + 1),
-        np.zeros((derivatives + 1, degree + 1)),
-    )
-
-
-@njit(cache=True)
-def _span(knots, degree, u):
-    """The knot span of u within the domain (as `rve_rod.geometry.bspline.find_spans`)."""
-    span = np.searchsorted(knots, u, side="right") - 1
-    return min(max(span, degree), knots.size - degree - 2)
-
-
-@njit(cache=True)
-def _basis(knots, degree, u, span, derivatives, work):
-    """Nonzero basis functions at u (in the knot span `span`) and their derivatives up to
-    `derivatives` <= p into work.values[k, j] (of N_{span-p+j}) (A2.3, as the vectorized
-    `rve_rod.geometry.bspline.basis_functions` was: the same operations in the same order)."""
-    ndu, a, left, right, out = work.ndu, work.a, work.left, work.right, work.values
+    ndu, a, left, right, out = work.ndu, work.a, work.left, work.right, work.basis
     p = degree
+    n = knots.size - p - 1
+    span = np.searchsorted(knots, u, side="right") - 1
+    span = min(max(span, p), n - 1)
     ndu[0, 0] = 1.0
     for j in range(1, p + 1):
         left[j] = u - knots[span + 1 - j]
@@ -251,6 +209,7 @@ def _basis(knots, degree, u, span, derivatives, work):
         for r in range(p + 1):
             out[k, r] *= factor
         factor *= p - k
+    return span
 
 
 @njit(cache=True)
@@ -263,10 +222,8 @@ def _chain_point(chain, s, order, work, out):
     whole = np.floor(s)
     wraps = whole // curves
     index = int(whole - wraps * curves)
-    u = s - whole
-    span = _span(knots, degree, u)
-    _basis(knots, degree, u, span, order, work)
-    basis = work.values
+    span = _basis(knots, degree, s - whole, order, work)
+    basis = work.basis
     for k in range(order + 1):
         for c in range(3):
             total = 0.0
@@ -281,8 +238,8 @@ def _chain_point(chain, s, order, work, out):
 def _pair_distance(first, second, s, t, offset, work):
     """|X(s) - Y(t) - offset| of two chains (mm)."""
     x, y = work.x, work.y
-    _chain_point(first, s, 0, work.basis, x)
-    _chain_point(second, t, 0, work.basis, y)
+    _chain_point(first, s, 0, work, x)
+    _chain_point(second, t, 0, work, y)
     total = 0.0
     for c in range(3):
         d = x[0, c] - y[0, c] - offset[c]
@@ -308,7 +265,15 @@ def refine_pairs(first, second, pairs, limit, iterations):
         second.knots.size - second.control_points.shape[1],
     )
     degree -= 1
-    work = _Work(_new_basis(degree, 2), np.empty((3, 3)), np.empty((3, 3)))
+    work = _Work(
+        np.empty((degree + 1, degree + 1)),
+        np.empty((2, degree + 1)),
+        np.empty(degree + 1),
+        np.empty(degree + 1),
+        np.zeros((3, degree + 1)),  # derivatives above the degree are zero
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+    )
     x, y = work.x, work.y
     hessian = np.empty((2, 2))
     offset = np.empty(3)
@@ -319,8 +284,8 @@ def refine_pairs(first, second, pairs, limit, iterations):
         u, v = pairs.first[pair], pairs.second[pair]
         current = _pair_distance(first, second, u, v, offset, work)
         for _ in range(iterations):
-            _chain_point(first, u, 2, work.basis, x)
-            _chain_point(second, v, 2, work.basis, y)
+            _chain_point(first, u, 2, work, x)
+            _chain_point(second, v, 2, work, y)
             # the sums over the components in index order, as NumPy's
             slope_s = slope_t = ss = tt = st = curve_s = curve_t = 0.0
             for c in range(3):

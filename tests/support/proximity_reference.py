@@ -1,66 +1,11 @@
-"""The geometry's kernels as plain NumPy/SciPy: the references the compiled
+"""The clearance search's kernels as plain NumPy/SciPy: the references the compiled
 `rve_rod.geometry._kernels` are checked against (the library's implementations before the
-kernels: B-spline basis functions, the clearance search's nearest samples and refinement)."""
+kernels)."""
 
 import numpy as np
 import scipy.spatial
 
 from rve_rod.geometry import proximity
-from rve_rod.geometry.bspline import BasisValues, find_spans
-
-
-def basis_functions_reference(
-    knots: np.ndarray, degree: int, params: np.ndarray, derivatives: int = 0
-) -> BasisValues:
-    """`rve_rod.geometry.bspline.basis_functions` vectorized over the parameters (A2.3; loops
-    over the degree only). Returns BasisValues with values (derivatives+1, m, degree+1)."""
-    p = degree
-    params = np.atleast_1d(np.asarray(params, dtype=float))
-    spans = find_spans(knots, p, params)
-    m = params.size
-    # ndu[:, j, r] for r >= j holds basis values N_{r,j} (upper triangle, A2.2) and for r < j
-    # the knot differences used by the derivative recursion (lower triangle).
-    ndu = np.empty((m, p + 1, p + 1))
-    ndu[:, 0, 0] = 1.0
-    left = np.empty((m, p + 1))
-    right = np.empty((m, p + 1))
-    for j in range(1, p + 1):
-        left[:, j] = params - knots[spans + 1 - j]
-        right[:, j] = knots[spans + j] - params
-        saved = np.zeros(m)
-        for r in range(j):
-            ndu[:, j, r] = right[:, r + 1] + left[:, j - r]
-            temp = ndu[:, r, j - 1] / ndu[:, j, r]
-            ndu[:, r, j] = saved + right[:, r + 1] * temp
-            saved = left[:, j - r] * temp
-        ndu[:, j, j] = saved
-    values = np.zeros((derivatives + 1, m, p + 1))
-    values[0] = ndu[:, :, p]
-    a = np.empty((2, m, p + 1))
-    for r in range(p + 1):
-        s1, s2 = 0, 1
-        a[0, :, 0] = 1.0
-        for k in range(1, min(derivatives, p) + 1):
-            d = np.zeros(m)
-            rk, pk = r - k, p - k
-            if r >= k:
-                a[s2, :, 0] = a[s1, :, 0] / ndu[:, pk + 1, rk]
-                d = a[s2, :, 0] * ndu[:, rk, pk]
-            j1 = 1 if rk >= -1 else -rk
-            j2 = k - 1 if r - 1 <= pk else p - r
-            for j in range(j1, j2 + 1):
-                a[s2, :, j] = (a[s1, :, j] - a[s1, :, j - 1]) / ndu[:, pk + 1, rk + j]
-                d = d + a[s2, :, j] * ndu[:, rk + j, pk]
-            if r <= pk:
-                a[s2, :, k] = -a[s1, :, k - 1] / ndu[:, pk + 1, r]
-                d = d + a[s2, :, k] * ndu[:, r, pk]
-            values[k, :, r] = d
-            s1, s2 = s2, s1
-    factor = float(p)
-    for k in range(1, min(derivatives, p) + 1):
-        values[k] *= factor
-        factor *= p - k
-    return BasisValues(spans=spans, values=values)
 
 
 def nearest_reference(samples, offset, shift, adjacent_arc):
