@@ -71,13 +71,30 @@ class Samples(NamedTuple):
 
 
 @record
-class Nearest(NamedTuple):
-    """Output of `nearest_samples`: for each sample of the first yarn, the nearest sample of
-    the second yarn's image.
+class Images(NamedTuple):
+    """Images of the second yarn, for `nearest_samples`.
 
     Attributes:
-        distances: (a,) the distance to it (mm); inf where every sample is adjacent.
-        partners: (a,) int64, its index, the first of equal distances (as numpy.argmin).
+        offsets: (k, 3) the offset of each image (mm).
+        shifts: (k,) added to the second yarn's arc coordinates: i L for the image i periods
+            along the same yarn (L the period's arc length) (mm).
+        adjacent_arcs: (k,) pairs with |arc_first - (arc_second + shift)| below it are
+            skipped (0: none, for another yarn or an image across the courses) (mm).
+    """
+
+    offsets: np.ndarray
+    shifts: np.ndarray
+    adjacent_arcs: np.ndarray
+
+
+@record
+class Nearest(NamedTuple):
+    """Output of `nearest_samples`: for each image and each sample of the first yarn, the
+    nearest sample of the image.
+
+    Attributes:
+        distances: (k, a) the distance to it (mm); inf where every sample is adjacent.
+        partners: (k, a) int64, its index, the first of equal distances (as numpy.argmin).
     """
 
     distances: np.ndarray
@@ -98,65 +115,66 @@ class _Work(NamedTuple):
 
 
 @njit(cache=True)
-def nearest_samples(samples, offset, shift, adjacent_arc, chunk, out):
-    """The nearest sample of the image (the second yarn's samples + offset) to each sample of
-    the first yarn: the row minima and their first indices of cdist(first, second + offset),
-    with the pairs closer than `adjacent_arc` along the yarn skipped.
+def nearest_samples(samples, images, chunk, out):
+    """The nearest sample of each image (the second yarn's samples + an offset) to each sample
+    of the first yarn: the row minima and their first indices of cdist(first, second +
+    offset), with the pairs closer than the image's adjacent arc along the yarn skipped.
 
     Args:
         samples: the two yarns' samples (`Samples`).
-        offset: (3,) the image's offset (mm).
-        shift: added to the second yarn's arc coordinates: i L for the image i periods along
-            the same yarn (L the period's arc length) (mm).
-        adjacent_arc: pairs with |arc_first - (arc_second + shift)| below it are skipped (0:
-            none, for another yarn or an image across the courses) (mm).
+        images: the images (`Images`).
         chunk: the second yarn's samples are taken in chunks of this many (a curve's), and a
             chunk whose bounding box is no nearer than the nearest sample found is skipped:
             its every distance is at least the box's, in floating point too (rounding is
             monotonic), so the minima and their first indices are the full matrix's.
-        out: the output (`Nearest`).
+        out: the output (`Nearest`), one row per image.
     """
     first, second = samples.first, samples.second
     count = second.shape[0]
-    shifted = np.empty((count, 3))
-    for b in range(count):
-        for c in range(3):
-            shifted[b, c] = second[b, c] + offset[c]
     chunks = (count + chunk - 1) // chunk
-    low = np.full((chunks, 3), np.inf)
-    high = np.full((chunks, 3), -np.inf)
-    for b in range(count):
-        for c in range(3):
-            low[b // chunk, c] = min(low[b // chunk, c], shifted[b, c])
-            high[b // chunk, c] = max(high[b // chunk, c], shifted[b, c])
-    partner = 0
-    for a in range(first.shape[0]):
-        best, best_index = np.inf, 0
-        # the previous row's partner first: a near distance that lets most chunks be skipped
-        for b in (partner, -1):
-            start, stop = (b, b + 1) if b >= 0 else (0, count)
-            for g in range(start // chunk, (stop - 1) // chunk + 1):
-                if b < 0:
-                    bound = 0.0
-                    for c in range(3):
-                        gap = max(low[g, c] - first[a, c], first[a, c] - high[g, c], 0.0)
-                        bound += gap * gap
-                    if np.sqrt(bound) > best:
-                        continue
-                for q in range(max(start, g * chunk), min(stop, (g + 1) * chunk)):
-                    if adjacent_arc > 0.0 and (
-                        abs(samples.first_arcs[a] - (samples.second_arcs[q] + shift)) < adjacent_arc
-                    ):
-                        continue
-                    total = 0.0
-                    for c in range(3):
-                        d = first[a, c] - shifted[q, c]
-                        total += d * d
-                    distance = np.sqrt(total)
-                    if distance < best or (distance == best and q < best_index):
-                        best, best_index = distance, q
-        out.distances[a], out.partners[a] = best, best_index
-        partner = best_index
+    shifted = np.empty((count, 3))
+    low = np.empty((chunks, 3))
+    high = np.empty((chunks, 3))
+    for k in range(images.shifts.size):
+        offset, shift = images.offsets[k], images.shifts[k]
+        adjacent_arc = images.adjacent_arcs[k]
+        low[:] = np.inf
+        high[:] = -np.inf
+        for b in range(count):
+            for c in range(3):
+                shifted[b, c] = second[b, c] + offset[c]
+                low[b // chunk, c] = min(low[b // chunk, c], shifted[b, c])
+                high[b // chunk, c] = max(high[b // chunk, c], shifted[b, c])
+        partner = 0
+        for a in range(first.shape[0]):
+            best, best_index = np.inf, 0
+            # the previous row's partner first: a near distance that lets most chunks be
+            # skipped
+            for b in (partner, -1):
+                start, stop = (b, b + 1) if b >= 0 else (0, count)
+                for g in range(start // chunk, (stop - 1) // chunk + 1):
+                    if b < 0:
+                        bound = 0.0
+                        for c in range(3):
+                            gap = max(low[g, c] - first[a, c], first[a, c] - high[g, c], 0.0)
+                            bound += gap * gap
+                        if np.sqrt(bound) > best:
+                            continue
+                    for q in range(max(start, g * chunk), min(stop, (g + 1) * chunk)):
+                        if adjacent_arc > 0.0 and (
+                            abs(samples.first_arcs[a] - (samples.second_arcs[q] + shift))
+                            < adjacent_arc
+                        ):
+                            continue
+                        total = 0.0
+                        for c in range(3):
+                            d = first[a, c] - shifted[q, c]
+                            total += d * d
+                        distance = np.sqrt(total)
+                        if distance < best or (distance == best and q < best_index):
+                            best, best_index = distance, q
+            out.distances[k, a], out.partners[k, a] = best, best_index
+            partner = best_index
 
 
 @njit(cache=True)

@@ -17,6 +17,7 @@ import numpy as np
 from rve_rod.errors import InputError, check_integer
 from rve_rod.geometry._kernels import (
     Chain,
+    Images,
     Nearest,
     Pairs,
     Samples,
@@ -142,14 +143,16 @@ def chain_clearance(
         images = [(i, j) for j in range(-2, 3) for i in (-1, 0, 1)]
         chosen = np.arange(_SAMPLES_PER_CURVE) + from_curve * _SAMPLES_PER_CURVE
     offsets = np.array([i * lattice[0] + j * lattice[1] for i, j in images])
-    samples = Samples(points[chosen], points, arc[chosen], arc)
     # along the yarn (j = 0) the image (i, 0) is the same yarn i periods further on
-    blocks = [
-        _nearest_samples(samples, offsets[k], i * period_length, adjacent_arc if j == 0 else 0.0)
-        for k, (i, j) in enumerate(images)
-    ]
-    # (samples, images): distance to the nearest image sample
-    nearest = np.column_stack([block.distances for block in blocks])
+    sampled = _nearest_samples(
+        Samples(points[chosen], points, arc[chosen], arc),
+        Images(
+            offsets,
+            np.array([i * period_length for i, _ in images]),
+            np.array([adjacent_arc if j == 0 else 0.0 for _, j in images]),
+        ),
+    )
+    nearest = sampled.distances.T  # (samples, images): distance to the nearest image sample
     overall = nearest.min()
     # a sampled pair overestimates a distance by about spacing^2 / distance: every local
     # minimum along the yarn within that of the best may hide the true minimum
@@ -160,7 +163,7 @@ def chain_clearance(
     local = (nearest <= previous) & (nearest <= following) & (nearest <= overall + slack)
     rows, columns = np.nonzero(local)
     shifts = np.array([images[k][0] for k in columns])
-    partners = np.array([blocks[k].partners[a] for a, k in zip(rows, columns, strict=True)])
+    partners = sampled.partners[columns, rows]
     offsets = np.array([images[k][1] * lattice[1] for k in columns])
     found, first, second = _refine(chain, chain, s[chosen][rows], s[partners] + shifts * n, offsets)
     best = int(np.argmin(found))
@@ -213,9 +216,11 @@ def cell_clearance(
                 along = m == n and j == 0  # the same yarn, i periods further on
                 return _nearest_samples(
                     Samples(points[m], points[n], arcs[m], arcs[n]),
-                    offsets[k],
-                    i * periods[n],
-                    adjacent_arc if along else 0.0,
+                    Images(
+                        offsets[k : k + 1],
+                        np.array([i * periods[n]]),
+                        np.array([adjacent_arc if along else 0.0]),
+                    ),
                 )
 
             blocks = _near_images(
@@ -224,7 +229,7 @@ def cell_clearance(
                 lambda overall: 2 * spacing**2 / max(overall, 1e-300) + 1e-3 * overall,
             )
             far = np.full(points[m].shape[0], np.inf)
-            nearest = np.column_stack([far if b is None else b.distances for b in blocks])
+            nearest = np.column_stack([far if b is None else b.distances[0] for b in blocks])
             overall = nearest.min()
             if not np.isfinite(overall):
                 continue
@@ -236,7 +241,7 @@ def cell_clearance(
             )
             rows, columns = np.nonzero(local)
             partners = np.array(
-                [blocks[k].partners[a] for a, k in zip(rows, columns, strict=True)], dtype=int
+                [blocks[k].partners[0, a] for a, k in zip(rows, columns, strict=True)], dtype=int
             )
             found, first, second = _refine(
                 chains[m],
@@ -263,14 +268,12 @@ def cell_clearance(
     return best
 
 
-def _nearest_samples(
-    samples: Samples, offset: np.ndarray, shift: float, adjacent_arc: float
-) -> Nearest:
-    """The nearest sample of an image to each sample of a yarn (`_kernels.nearest_samples`,
-    the samples taken a curve's at a time)."""
-    count = samples.first.shape[0]
-    nearest = Nearest(np.empty(count), np.empty(count, dtype=np.int64))
-    nearest_samples(samples, offset, shift, adjacent_arc, _SAMPLES_PER_CURVE, nearest)
+def _nearest_samples(samples: Samples, images: Images) -> Nearest:
+    """The nearest sample of each image to each sample of a yarn (`_kernels.nearest_samples`,
+    the samples taken a curve's at a time), (images, samples)."""
+    shape = (images.shifts.size, samples.first.shape[0])
+    nearest = Nearest(np.empty(shape), np.empty(shape, dtype=np.int64))
+    nearest_samples(samples, images, _SAMPLES_PER_CURVE, nearest)
     return nearest
 
 

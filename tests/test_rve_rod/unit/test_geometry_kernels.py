@@ -5,7 +5,7 @@ import pytest
 from support.proximity_reference import nearest_reference, refine_reference
 
 from rve_rod.geometry import _kernels, pattern_cell, proximity
-from rve_rod.geometry._kernels import Samples
+from rve_rod.geometry._kernels import Images, Samples
 from rve_rod.geometry.bspline import basis_functions, open_knot_vector
 from rve_rod.geometry.loop import single_jersey_loop
 
@@ -99,18 +99,18 @@ def test_nearest_samples_are_the_full_distance_matrix_minima_bit_for_bit(pattern
     for m, (points, arcs, period) in enumerate(yarns):
         for n, (other, other_arcs, _) in enumerate(yarns):
             samples = Samples(points, other, arcs, other_arcs)
-            for i in (-1, 0, 1):
-                for j in (-1, 0, 1):
-                    along = m == n and j == 0
-                    arguments = (
-                        i * lattice[0] + j * lattice[1],
-                        i * period,
-                        np.pi * w / 8 if along else 0.0,
-                    )
-                    found = proximity._nearest_samples(samples, *arguments)
-                    distances, partners = nearest_reference(samples, *arguments)
-                    np.testing.assert_array_equal(found.distances, distances)
-                    np.testing.assert_array_equal(found.partners, partners)
+            shifts = [(i, j) for j in (-1, 0, 1) for i in (-1, 0, 1)]
+            images = Images(
+                np.array([i * lattice[0] + j * lattice[1] for i, j in shifts]),
+                np.array([i * period for i, _ in shifts]),
+                np.array([np.pi * w / 8 if m == n and j == 0 else 0.0 for _, j in shifts]),
+            )
+            found = proximity._nearest_samples(samples, images)
+            for k in range(len(shifts)):
+                image = (images.offsets[k], images.shifts[k], images.adjacent_arcs[k])
+                distances, partners = nearest_reference(samples, *image)
+                np.testing.assert_array_equal(found.distances[k], distances)
+                np.testing.assert_array_equal(found.partners[k], partners)
 
 
 def test_nearest_samples_take_the_first_of_equal_distances_and_skip_adjacent_pairs():
@@ -118,10 +118,13 @@ def test_nearest_samples_take_the_first_of_equal_distances_and_skip_adjacent_pai
     rng = np.random.default_rng(3)
     points = rng.integers(-3, 4, size=(300, 3)).astype(float)
     other = rng.integers(-3, 4, size=(250, 3)).astype(float)
-    arcs, other_arcs = np.arange(300.0), np.arange(250.0)
-    samples = Samples(points, other, arcs, other_arcs)
-    for adjacent in (0.0, 40.0, 1e9):  # none, some, every pair adjacent
-        found = proximity._nearest_samples(samples, np.array([0.5, 0.0, 1.0]), 7.0, adjacent)
-        distances, partners = nearest_reference(samples, np.array([0.5, 0.0, 1.0]), 7.0, adjacent)
-        np.testing.assert_array_equal(found.distances, distances)
-        np.testing.assert_array_equal(found.partners, partners)
+    samples = Samples(points, other, np.arange(300.0), np.arange(250.0))
+    adjacent = np.array([0.0, 40.0, 1e9])  # none, some, every pair adjacent
+    offset = np.array([0.5, 0.0, 1.0])
+    found = proximity._nearest_samples(
+        samples, Images(np.tile(offset, (3, 1)), np.full(3, 7.0), adjacent)
+    )
+    for k in range(3):
+        distances, partners = nearest_reference(samples, offset, 7.0, adjacent[k])
+        np.testing.assert_array_equal(found.distances[k], distances)
+        np.testing.assert_array_equal(found.partners[k], partners)
