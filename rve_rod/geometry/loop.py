@@ -172,10 +172,14 @@ class LoopShape:
 
     def projection(self) -> np.ndarray:
         """Dense x/y points of the quarter from A to L, shape (k, 2) (mm); read-only, and
-        remembered per (w, c, r, rho): the depth does not enter, and a depth search fits a
-        dozen depths of one shape."""
+        remembered per (w, c, r, rho) and SHOULDER_ASPECT (which an experiment may change):
+        the depth does not enter, and a depth search fits a dozen depths of one shape."""
         return _projection(
-            self.wale_width, self.course_height, self.yarn_radius, self.shoulder_radius
+            self.wale_width,
+            self.course_height,
+            self.yarn_radius,
+            self.shoulder_radius,
+            SHOULDER_ASPECT,
         )
 
     def height(self, y: np.ndarray) -> np.ndarray:
@@ -473,8 +477,9 @@ class _ShapeSearch:
 
 
 @lru_cache(maxsize=64)
-def _projection(w: float, c: float, r: float, rho: float) -> np.ndarray:
-    """`LoopShape.projection` of the shape (w, c, r, rho) (mm)."""
+def _projection(w: float, c: float, r: float, rho: float, aspect: float) -> np.ndarray:
+    """`LoopShape.projection` of the shape (w, c, r, rho) whose shoulder aspect is `aspect`,
+    SHOULDER_ASPECT's value (a key of the cache only: `sections` reads SHOULDER_ASPECT) (mm)."""
     crown, shoulder, leg = LoopShape(w, c, r, rho, 1.0).sections()  # the depth does not enter
     points = np.concatenate([crown[:-1], shoulder[:-1], leg])
     steps = np.linalg.norm(np.diff(points, axis=0), axis=1)
