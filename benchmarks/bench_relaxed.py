@@ -12,8 +12,8 @@ cache, some 20 s): keep `--repeat` at 2 or more.
 
     .venv/bin/python benchmarks/bench_relaxed.py [--repeat 2] [--patterns jersey,rib1x1,...]
 
-About a minute (4 before the kernels). On the shared machine the times are noisy: the minimum of the repeats is
-the one reported, with the load average.
+About a minute (4 before the kernels). On the shared machine the times are noisy: the minimum
+of the repeats is the one reported, with the load average.
 """
 
 import argparse
