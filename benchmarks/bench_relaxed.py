@@ -8,7 +8,7 @@ w, c and the bending energy (to compare versions: a speed-up must give the same 
 wall and CPU time of the fastest of `--repeat` runs (on a loaded machine the CPU time is the
 steadier measure: the search runs on one core). The first run of a process also loads the
 clearance search's numba kernels from their cache (about 0.5 s; compiling them, with an empty
-cache, some 20 s): keep `--repeat` at 2 or more.
+cache, about 9 s of CPU): keep `--repeat` at 2 or more.
 
     .venv/bin/python benchmarks/bench_relaxed.py [--repeat 2] [--patterns jersey,rib1x1,...]
 
