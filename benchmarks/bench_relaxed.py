@@ -6,12 +6,14 @@ r0 = 0.19 mm), uncached (the per-process memos of the jersey loop and of the pat
 templates cleared before every run):
 w, c and the bending energy (to compare versions: a speed-up must give the same cell), and the
 wall and CPU time of the fastest of `--repeat` runs (on a loaded machine the CPU time is the
-steadier measure: the search runs on one core).
+steadier measure: the search runs on one core). The first run of a process also loads the
+clearance search's numba kernels from their cache (about 0.5 s; compiling them, with an empty
+cache, about 9 s of CPU): keep `--repeat` at 2 or more.
 
     .venv/bin/python benchmarks/bench_relaxed.py [--repeat 2] [--patterns jersey,rib1x1,...]
 
-About 1-2 minutes. On the shared machine the times are noisy: the minimum of the repeats is
-the one reported, with the load average.
+About a minute (4 before the kernels). On the shared machine the times are noisy: the minimum
+of the repeats is the one reported, with the load average.
 """
 
 import argparse
@@ -22,7 +24,7 @@ from rve_rod.geometry.loop import single_jersey_loop
 from rve_rod.geometry.pattern_cell import pattern_geometry
 from rve_rod.geometry.relaxed import relaxed_knit
 
-PATTERNS = ("jersey", "rib1x1", "garter", "seed", "moss")
+PATTERNS = ("jersey", "rib1x1", "rib2x2", "garter", "seed", "moss")
 
 
 def main() -> None:

@@ -74,8 +74,8 @@ def check_knot_vector(knots: np.ndarray, degree: int, n_control_points: int) -> 
         raise InputError("knot vector must be finite and non-decreasing")
     if knots[degree] >= knots[-degree - 1]:
         raise InputError("knot vector has an empty parameter domain")
-    _, counts = np.unique(knots[degree + 1 : -degree - 1], return_counts=True)
-    if counts.size and counts.max() > degree:
+    interior = knots[degree + 1 : -degree - 1]  # sorted: a run of degree + 1 equal knots
+    if np.any(interior[degree:] == interior[: interior.size - degree]):
         raise InputError(f"an interior knot repeats more than degree={degree} times")
     return knots
 

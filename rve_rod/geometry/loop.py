@@ -171,11 +171,16 @@ class LoopShape:
         return crown, shoulder, leg
 
     def projection(self) -> np.ndarray:
-        """Dense x/y points of the quarter from A to L, shape (k, 2) (mm)."""
-        crown, shoulder, leg = self.sections()
-        points = np.concatenate([crown[:-1], shoulder[:-1], leg])
-        steps = np.linalg.norm(np.diff(points, axis=0), axis=1)
-        return points[np.concatenate([[True], steps > 0])]  # no crown when a = w/4 + r
+        """Dense x/y points of the quarter from A to L, shape (k, 2) (mm); read-only, and
+        remembered per (w, c, r, rho) and SHOULDER_ASPECT (which an experiment may change):
+        the depth does not enter, and a depth search fits a dozen depths of one shape."""
+        return _projection(
+            self.wale_width,
+            self.course_height,
+            self.yarn_radius,
+            self.shoulder_radius,
+            SHOULDER_ASPECT,
+        )
 
     def height(self, y: np.ndarray) -> np.ndarray:
         """z(y) of the "band" profile: d/2 on the legs, a parabola across the band
@@ -469,6 +474,18 @@ class _ShapeSearch:
             options={"xatol": _SHOULDER_TOLERANCE * r},
         )
         return float(optimum.x) if optimum.fun <= lengths[best] else float(grid[best])
+
+
+@lru_cache(maxsize=64)
+def _projection(w: float, c: float, r: float, rho: float, aspect: float) -> np.ndarray:
+    """`LoopShape.projection` of the shape (w, c, r, rho) whose shoulder aspect is `aspect`,
+    SHOULDER_ASPECT's value (a key of the cache only: `sections` reads SHOULDER_ASPECT) (mm)."""
+    crown, shoulder, leg = LoopShape(w, c, r, rho, 1.0).sections()  # the depth does not enter
+    points = np.concatenate([crown[:-1], shoulder[:-1], leg])
+    steps = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    points = points[np.concatenate([[True], steps > 0])]  # no crown when a = w/4 + r
+    points.flags.writeable = False
+    return points
 
 
 def _check_profile(profile: str) -> None:

@@ -15,7 +15,7 @@ import numpy as np
 from rve_rod.geometry.bspline import BSplineCurve, basis_functions, basis_matrix, open_knot_vector
 
 if TYPE_CHECKING:
-    from rve_rod.geometry.loop import LoopShape
+    from rve_rod.geometry.loop import LoopShape, QuarterSamples
 
 __all__ = [
     "CONTROL_POINTS",
@@ -106,14 +106,16 @@ def condition_rows(conditions: tuple[SymmetryCondition, ...]) -> np.ndarray:
     return np.array([_rows_at(condition.at)[condition.order] for condition in conditions])
 
 
-def fit_quarter(shape: "LoopShape") -> BSplineCurve:
+def fit_quarter(shape: "LoopShape", sampled: "QuarterSamples | None" = None) -> BSplineCurve:
     """Constrained least-squares fit of the quarter: 12 control points, degree 4.
 
     The `symmetry_conditions` make the mirrored loop C2. The curve also passes through the
     widest point W with x' = 0 there, so that the built-in contacts are exactly 2r in the
-    spline as in the analytic model.
+    spline as in the analytic model. `sampled`: the shape's `quarter_samples` at
+    `fit_fractions()` where the caller has them already.
     """
-    sampled = shape.quarter_samples(fit_fractions())
+    if sampled is None:
+        sampled = shape.quarter_samples(fit_fractions())
     knots = open_knot_vector(DEGREE, CONTROL_POINTS)
     at, widest = sampled.shoulder_fraction, sampled.shoulder
     pinned = (
@@ -135,7 +137,7 @@ def fit_coordinate(values: np.ndarray, conditions: tuple[SymmetryCondition, ...]
     k = len(conditions)
     kkt = np.zeros((n + k, n + k))
     rows = condition_rows(conditions)
-    kkt[:n, :n] = design.T @ design
+    kkt[:n, :n] = _normal_matrix()
     kkt[:n, n:] = rows.T
     kkt[n:, :n] = rows
     rhs = np.concatenate([design.T @ values, [condition.value for condition in conditions]])
@@ -167,6 +169,15 @@ def _rows_at(at: float) -> np.ndarray:
     rows = _basis_rows([at])[:, 0, :]
     rows.flags.writeable = False
     return rows
+
+
+@cache
+def _normal_matrix() -> np.ndarray:
+    """design^T design of `_design_matrix` (control points, control points); read-only."""
+    design = _design_matrix()
+    normal = design.T @ design
+    normal.flags.writeable = False
+    return normal
 
 
 @cache

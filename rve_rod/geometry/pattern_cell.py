@@ -41,6 +41,7 @@ from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.geometry.loop import (
     ADJACENT_ARC_FACTOR,
     LoopShape,
+    QuarterSamples,
     _smallest_clear_depth,
     single_jersey_loop,
 )
@@ -182,10 +183,12 @@ def _crossing_length(shape: LoopShape) -> float:
     return shape.widest_x
 
 
-def _pattern_quarter(shape: LoopShape, sides: QuarterSides, jersey: BSplineCurve) -> BSplineCurve:
+def _pattern_quarter(
+    shape: LoopShape, sampled: QuarterSamples, sides: QuarterSides, jersey: BSplineCurve
+) -> BSplineCurve:
     """The quarter of `sides`: the jersey quarter's x and y, z fitted to `pattern_heights` at
-    the same samples with the conditions that make every join of pattern quarters C2."""
-    sampled = shape.quarter_samples(fit_fractions())
+    the same samples (`sampled`, the shape's `quarter_samples` at `fit_fractions()`) with the
+    conditions that make every join of pattern quarters C2."""
     z = pattern_heights(shape, sides, sampled.points[:, :2])
     d, band_start = shape.depth, shape.course_height / 2 - shape.shoulder_radius
     # slopes of the fitted x at the crown and y at L (the same for every quarter)
@@ -264,9 +267,10 @@ class _PatternSearch:
 
     def loops(self, depth: float) -> dict:
         shape = LoopShape(self.w, self.c, self.r, self.rho, depth)
-        jersey = fit_quarter(shape)
+        sampled = shape.quarter_samples(fit_fractions())
+        jersey = fit_quarter(shape, sampled)
         quarters = {
-            sides: _pattern_quarter(shape, sides, jersey)
+            sides: _pattern_quarter(shape, sampled, sides, jersey)
             for sides in set().union(*self.sides.values())
         }
         return {

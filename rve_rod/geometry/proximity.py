@@ -13,9 +13,17 @@ from functools import cache
 from typing import NamedTuple
 
 import numpy as np
-import scipy.spatial
 
 from rve_rod.errors import InputError, check_integer
+from rve_rod.geometry._kernels import (
+    Chain,
+    Images,
+    Nearest,
+    Pairs,
+    Samples,
+    nearest_samples,
+    refine_pairs,
+)
 from rve_rod.geometry.bspline import BasisValues, BSplineCurve, basis_functions
 
 __all__ = [
@@ -79,6 +87,8 @@ class _Chain:
         self.knots = first.knots
         self.control_points = np.stack([curve.control_points for curve in curves])
         self.period = period
+        self.arrays = Chain(self.control_points, np.asarray(self.knots, dtype=float), period)
+        """The chain as `rve_rod.geometry._kernels` takes it."""
 
     def evaluate(self, s: np.ndarray, order: int = 0, basis=None) -> np.ndarray:
         """Points and derivatives with respect to s, shape (order+1, m, 3); `basis` may hold
@@ -133,15 +143,16 @@ def chain_clearance(
         images = [(i, j) for j in range(-2, 3) for i in (-1, 0, 1)]
         chosen = np.arange(_SAMPLES_PER_CURVE) + from_curve * _SAMPLES_PER_CURVE
     offsets = np.array([i * lattice[0] + j * lattice[1] for i, j in images])
-    shifted = (points[None, :, :] + offsets[:, None, :]).reshape(-1, 3)
-    distances = scipy.spatial.distance.cdist(points[chosen], shifted).reshape(
-        chosen.size, len(images), points.shape[0]
+    # along the yarn (j = 0) the image (i, 0) is the same yarn i periods further on
+    sampled = _nearest_samples(
+        Samples(points[chosen], points, arc[chosen], arc),
+        Images(
+            offsets,
+            np.array([i * period_length for i, _ in images]),
+            np.array([adjacent_arc if j == 0 else 0.0 for _, j in images]),
+        ),
     )
-    for k, (i, j) in enumerate(images):
-        if j == 0:  # along the yarn, the image (i, 0) is the same yarn i periods further on
-            along = np.abs(arc[chosen, None] - (arc[None, :] + i * period_length))
-            distances[:, k, :][along < adjacent_arc] = np.inf
-    nearest = distances.min(axis=2)  # (samples, images): distance to the nearest image sample
+    nearest = sampled.distances.T  # (samples, images): distance to the nearest image sample
     overall = nearest.min()
     # a sampled pair overestimates a distance by about spacing^2 / distance: every local
     # minimum along the yarn within that of the best may hide the true minimum
@@ -152,9 +163,9 @@ def chain_clearance(
     local = (nearest <= previous) & (nearest <= following) & (nearest <= overall + slack)
     rows, columns = np.nonzero(local)
     shifts = np.array([images[k][0] for k in columns])
-    partners = np.array([np.argmin(distances[a, k]) for a, k in zip(rows, columns, strict=True)])
+    partners = sampled.partners[columns, rows]
     offsets = np.array([images[k][1] * lattice[1] for k in columns])
-    found, first, second = _refine(chain, s[chosen][rows], s[partners] + shifts * n, offsets)
+    found, first, second = _refine(chain, chain, s[chosen][rows], s[partners] + shifts * n, offsets)
     best = int(np.argmin(found))
     return ChainClearance(
         float(found[best]),
@@ -200,13 +211,17 @@ def cell_clearance(
         for n in range(m, len(yarns)):
 
             def block(k, m=m, n=n):
-                """Sample distances of yarn m to image k of yarn n, (samples m, samples n)."""
-                distances = scipy.spatial.distance.cdist(points[m], points[n] + offsets[k])
+                """The nearest sample of image k of yarn n to each sample of yarn m."""
                 i, j = images[k]
-                if m == n and j == 0:  # the same yarn, i periods further on
-                    along = np.abs(arcs[m][:, None] - (arcs[n][None, :] + i * periods[n]))
-                    distances[along < adjacent_arc] = np.inf
-                return distances
+                along = m == n and j == 0  # the same yarn, i periods further on
+                return _nearest_samples(
+                    Samples(points[m], points[n], arcs[m], arcs[n]),
+                    Images(
+                        offsets[k : k + 1],
+                        np.array([i * periods[n]]),
+                        np.array([adjacent_arc if along else 0.0]),
+                    ),
+                )
 
             blocks = _near_images(
                 block,
@@ -214,7 +229,7 @@ def cell_clearance(
                 lambda overall: 2 * spacing**2 / max(overall, 1e-300) + 1e-3 * overall,
             )
             far = np.full(points[m].shape[0], np.inf)
-            nearest = np.column_stack([far if b is None else b.min(axis=1) for b in blocks])
+            nearest = np.column_stack([far if b is None else b.distances[0] for b in blocks])
             overall = nearest.min()
             if not np.isfinite(overall):
                 continue
@@ -226,10 +241,11 @@ def cell_clearance(
             )
             rows, columns = np.nonzero(local)
             partners = np.array(
-                [np.argmin(blocks[k][a]) for a, k in zip(rows, columns, strict=True)], dtype=int
+                [blocks[k].partners[0, a] for a, k in zip(rows, columns, strict=True)], dtype=int
             )
             found, first, second = _refine(
-                _ChainPair(chains[m], chains[n]),
+                chains[m],
+                chains[n],
                 params[m][rows],
                 params[n][partners],
                 offsets[columns],
@@ -252,6 +268,15 @@ def cell_clearance(
     return best
 
 
+def _nearest_samples(samples: Samples, images: Images) -> Nearest:
+    """The nearest sample of each image to each sample of a yarn (`_kernels.nearest_samples`,
+    the samples taken a curve's at a time), (images, samples)."""
+    shape = (images.shifts.size, samples.first.shape[0])
+    nearest = Nearest(np.empty(shape), np.empty(shape, dtype=np.int64))
+    nearest_samples(samples, images, _SAMPLES_PER_CURVE, nearest)
+    return nearest
+
+
 def _box_gaps(first: np.ndarray, second: np.ndarray, offsets: np.ndarray) -> np.ndarray:
     """A lower bound of the distance between the points `first` (a, 3) and each image of
     `second` (b, 3) shifted by `offsets` (k, 3): the gaps between their bounding boxes, less a
@@ -264,20 +289,20 @@ def _box_gaps(first: np.ndarray, second: np.ndarray, offsets: np.ndarray) -> np.
     return np.maximum(np.linalg.norm(gaps, axis=1) - 1e-9 * scale, 0.0)
 
 
-def _near_images(block, gaps: np.ndarray, slack) -> list[np.ndarray | None]:
-    """The sample distances to each image (`block(k)`), computed only for the images that can
+def _near_images(block, gaps: np.ndarray, slack) -> list[Nearest | None]:
+    """The nearest samples of each image (`block(k)`), computed only for the images that can
     hold a pair within the search's reach, overall + slack(overall) (overall: the least sample
     distance); None for the others, whose distances all exceed it (their bounding boxes'
     `gaps` do). The least distance lies in the images no farther than the distance found in
     the nearest box, and an image beyond the reach has no local minimum the search takes: the
     search finds what it finds computing every image."""
-    blocks: list[np.ndarray | None] = [None] * gaps.size
+    blocks: list[Nearest | None] = [None] * gaps.size
 
     def compute(chosen) -> float:
         for k in np.flatnonzero(chosen):
             if blocks[k] is None:
                 blocks[k] = block(k)
-        return min((found.min() for found in blocks if found is not None), default=np.inf)
+        return min((found.distances.min() for found in blocks if found is not None), default=np.inf)
 
     found = compute(gaps == gaps.min())
     if not np.isfinite(found):
@@ -298,20 +323,6 @@ def _arc_at(s: np.ndarray, params: np.ndarray, arcs: np.ndarray, period: float) 
     return np.interp(s - turns * curves, xp, fp) + turns * period
 
 
-class _ChainPair:
-    """Two chains evaluated as one for `_refine`: the first half of the parameters on the
-    first chain, the second half on the second (pairs across two yarns)."""
-
-    def __init__(self, first: _Chain, second: _Chain):
-        self.first, self.second = first, second
-
-    def evaluate(self, s: np.ndarray, order: int = 0) -> np.ndarray:
-        half = s.size // 2
-        return np.concatenate(
-            [self.first.evaluate(s[:half], order), self.second.evaluate(s[half:], order)], axis=1
-        )
-
-
 @cache
 def _sample_basis(degree: int, knots: tuple[float, ...], curves: int) -> BasisValues:
     """Basis functions at the sample parameters of every curve (the same for each search)."""
@@ -320,59 +331,24 @@ def _sample_basis(degree: int, knots: tuple[float, ...], curves: int) -> BasisVa
 
 
 def _refine(
-    chain: _Chain, s: np.ndarray, t: np.ndarray, offsets: np.ndarray
+    first: _Chain, second: _Chain, s: np.ndarray, t: np.ndarray, offsets: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Local minima of |X(s) - X(t) - offset| near each pair (s, t), all pairs at once.
+    """Local minima of |X(s) - Y(t) - offset| near each pair (s, t), X on the chain `first`,
+    Y on `second` (the same chain for a yarn against its own images), offsets (k, 3) (mm).
 
     Newton's method (saddle-free: the Hessian's eigenvalues by their magnitudes) with a trust
     region of four sample spacings and step halving: nearly parallel or wrapping yarns make
     the distance flat along a valley, so a minimum may lie several samples away from its
-    sampled pair. Returns (distances, s, t), each of shape (k,).
+    sampled pair. A yarn wrapping around another at about the distance gives long, curved
+    valleys in which steepest descent crawls; where the distance is convex the step is
+    Newton's. Compiled, pair by pair (`rve_rod.geometry._kernels.refine_pairs`). Returns
+    (distances, s, t), each of shape (k,).
     """
-    k = s.size
-
-    def distance(first: np.ndarray, second: np.ndarray, shift: np.ndarray) -> np.ndarray:
-        values = chain.evaluate(np.concatenate([first, second]))[0]
-        return np.linalg.norm(values[: first.size] - values[first.size :] - shift, axis=1)
-
-    s, t = s.astype(float), t.astype(float)
-    current = distance(s, t, offsets)
-    limit = 4.0 / _SAMPLES_PER_CURVE
-    active = np.ones(k, dtype=bool)
-    for _ in range(_NEWTON_ITERATIONS):
-        if not active.any():
-            break
-        values = chain.evaluate(np.concatenate([s, t]), 2)
-        d = values[0, :k] - values[0, k:] - offsets
-        xs, xt = values[1, :k], values[1, k:]
-        gradient = np.stack([np.sum(d * xs, 1), -np.sum(d * xt, 1)], axis=1)
-        hessian = np.empty((k, 2, 2))
-        hessian[:, 0, 0] = np.sum(xs * xs, 1) + np.sum(d * values[2, :k], 1)
-        hessian[:, 1, 1] = np.sum(xt * xt, 1) - np.sum(d * values[2, k:], 1)
-        hessian[:, 0, 1] = hessian[:, 1, 0] = -np.sum(xs * xt, 1)
-        # Newton's step with the Hessian's eigenvalues replaced by their magnitudes: the same
-        # where the distance is convex, and a descent step that follows the negative
-        # curvature where it is not (a yarn wrapping around another at about the distance
-        # gives long, curved valleys in which steepest descent crawls)
-        curvature, axes = np.linalg.eigh(hessian)
-        magnitude = np.maximum(np.abs(curvature), 1e-12 * np.abs(curvature).max(1, keepdims=True))
-        along = np.einsum("kji,kj->ki", axes, gradient) / np.maximum(magnitude, 1e-300)
-        step = -np.einsum("kij,kj->ki", axes, along)
-        largest = np.abs(step).max(axis=1)
-        step *= np.minimum(1.0, limit / np.maximum(largest, 1e-300))[:, None]
-        step[~active] = 0.0
-        trial = distance(s + step[:, 0], t + step[:, 1], offsets)
-        for _ in range(6):  # halve the steps that do not decrease the distance
-            worse = active & (trial > current)
-            if not worse.any():
-                break
-            step[worse] *= 0.5
-            trial[worse] = distance(
-                s[worse] + step[worse, 0], t[worse] + step[worse, 1], offsets[worse]
-            )
-        accepted = active & (trial <= current)
-        improvement = np.where(accepted, current - trial, 0.0)
-        s, t = s + np.where(accepted, step[:, 0], 0.0), t + np.where(accepted, step[:, 1], 0.0)
-        current = np.where(accepted, trial, current)
-        active = accepted & (np.abs(step).max(axis=1) > 1e-12) & (improvement > 1e-15 * current)
-    return current, s, t
+    pairs = Pairs(
+        s.astype(float),
+        t.astype(float),
+        np.ascontiguousarray(offsets.T, dtype=float),
+        np.empty(s.size),
+    )
+    refine_pairs(first.arrays, second.arrays, pairs, 4.0 / _SAMPLES_PER_CURVE, _NEWTON_ITERATIONS)
+    return pairs.distances, pairs.first, pairs.second

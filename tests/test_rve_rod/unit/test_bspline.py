@@ -206,6 +206,11 @@ def test_bad_knot_vectors_and_parameters_are_refused():
         BSplineCurve(3, np.zeros(5), np.zeros((4, 2)))
     with pytest.raises(InputError, match="non-decreasing"):
         BSplineCurve(1, np.array([0, 0, 1, 0.5, 1, 1.0]), np.zeros((4, 2)))
+    # an interior knot p times is allowed (a C0 joint), p + 1 times is not
+    cubic = [0, 0, 0, 0, 0.2, 0.5, 0.5, 0.5]
+    BSplineCurve(3, np.array([*cubic, 0.7, 1, 1, 1, 1]), np.zeros((9, 2)))
+    with pytest.raises(InputError, match="repeats more than degree=3"):
+        BSplineCurve(3, np.array([*cubic, 0.5, 1, 1, 1, 1]), np.zeros((9, 2)))
     curve = random_curve(2, 5)
     with pytest.raises(InputError, match="outside the curve domain"):
         curve(np.array([1.5]))

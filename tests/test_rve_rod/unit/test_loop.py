@@ -9,6 +9,7 @@ from scipy.spatial import cKDTree
 from scipy.spatial.distance import cdist
 
 from rve_rod.errors import InputError
+from rve_rod.geometry import loop as loop_module
 from rve_rod.geometry.loop import (
     SHOULDER_ASPECT,
     LoopShape,
@@ -82,6 +83,18 @@ def test_sections_are_a_flat_crown_a_shoulder_ellipse_and_the_leg_arc_through_w(
         )
     )
     assert turn.max() < 2 * np.pi / 2 / 399
+
+
+def test_projection_follows_the_shoulder_aspect_an_experiment_sets(loop, monkeypatch):
+    # the projection is remembered per shape: the shoulder aspect, a model constant that the
+    # sensitivity table of docs/geometry.md varies, must be part of what it is remembered by
+    shape = shape_of(loop)
+    w, c, r, rho = loop.wale_width, loop.course_height, loop.yarn_radius, loop.shape_parameter
+    for aspect in (SHOULDER_ASPECT, 1.0, SHOULDER_ASPECT):
+        monkeypatch.setattr(loop_module, "SHOULDER_ASPECT", aspect)
+        plane = shape.projection()
+        crown = plane[plane[:, 1] == c / 2 + rho]  # the crown, from the apex to the shoulder
+        assert crown[:, 0].max() == pytest.approx(w / 4 + r - aspect * rho, rel=1e-12)
 
 
 def test_legs_lie_in_front_and_the_head_behind(loop):
