@@ -10,6 +10,13 @@ components and basis functions in index order, the Hessian's eigenpairs by LAPAC
 `numpy.linalg.eigh`), so their results are NumPy's bit for bit:
 tests/test_rve_rod/unit/test_geometry_kernels.py checks them against plain NumPy references
 (`basis_functions`; tests/support/proximity_reference.py for the others).
+
+`_basis` is the one second copy of an algorithm here, A2.3 one point at a time with its work
+space: `bspline.basis_functions` must stay NumPy (the surface reader imports without numba),
+and that vectorized form compiled by numba as it is (tried: `njit(basis_functions)` called
+with one point) allocates its temporaries at every call and made the relaxed cells 1.4-1.7
+times slower (jersey 2.8 -> 3.8 s, moss 3.3 -> 5.5 s); the test keeps the two equal bit for
+bit.
 """
 
 from typing import NamedTuple

@@ -75,7 +75,7 @@ def check_knot_vector(knots: np.ndarray, degree: int, n_control_points: int) -> 
     if knots[degree] >= knots[-degree - 1]:
         raise InputError("knot vector has an empty parameter domain")
     interior = knots[degree + 1 : -degree - 1]  # sorted: a run of degree + 1 equal knots
-    if np.any(interior[degree:] == interior[: interior.size - degree]):
+    if interior.size > degree and np.any(interior[degree:] == interior[: interior.size - degree]):
         raise InputError(f"an interior knot repeats more than degree={degree} times")
     return knots
 
