@@ -458,8 +458,9 @@ class ContactModel:
         deformation = self._deformation(deformation_gradient)
         layout = self.layout
         slave_points = layout.collocation_positions(points)
-        detected = self._closest_points(points, slave_points, deformation)
-        regions = self._region_weights(points, slave_points, deformation, detected)
+        coefficients = layout.coefficients(points)
+        detected = self._closest_points(points, coefficients, slave_points, deformation)
+        regions = self._region_weights(coefficients, slave_points, deformation, detected)
         radius = self.law.yarn_radius
         active_rows = np.flatnonzero(detected.state.distance < 2.0 * radius)
         active = detected.subset(active_rows)
@@ -555,8 +556,9 @@ class ContactModel:
 
     # -- search -------------------------------------------------------------------------------
 
-    def _closest_points(self, points, slave_points, deformation) -> _Selection:
-        """Distance minima within the detection radius, own-yarn adjacency excluded."""
+    def _closest_points(self, points, coefficients, slave_points, deformation) -> _Selection:
+        """Distance minima within the detection radius, own-yarn adjacency excluded;
+        coefficients: the spans' (`ContactLayout.coefficients` of points)."""
         layout = self.layout
         radius = self.law.yarn_radius
         reach = 2.0 * radius + self.search_margin
@@ -578,7 +580,7 @@ class ContactModel:
         )
         targets = slave_points[:, candidates.slave] - translations[candidates.image].T
         found = project(
-            layout.coefficients(points),
+            coefficients,
             self._groups.spans,
             layout.span_next,
             layout.span_closed_end,
@@ -631,10 +633,10 @@ class ContactModel:
             ),
         )
 
-    def _region_weights(self, points, slave_points, deformation, detected) -> RegionWeights:
+    def _region_weights(self, coefficients, slave_points, deformation, detected) -> RegionWeights:
         """Region weights of the detected minima (`rve_rod.contact.regions`)."""
         geometry = StrandGeometry(
-            self.layout, points, self._shifts(np.eye(2, dtype=np.int64)) @ deformation.T
+            self.layout, coefficients, self._shifts(np.eye(2, dtype=np.int64)) @ deformation.T
         )
         minima = StrandPoints(
             slave=detected.slave,
