@@ -200,7 +200,7 @@ class _Pattern(NamedTuple):
 
     indices: np.ndarray
     indptr: np.ndarray
-    interior: np.ndarray  # (7, 7, p+1, M) data positions, -1 for end rows
+    interior: np.ndarray  # (7, 7, p+1, M) int32 data positions, -1 for end rows
     conditions: list  # per condition: list of (r*c,) data positions per block
     condition_positions: np.ndarray  # all of `conditions` concatenated in order
 
@@ -766,7 +766,8 @@ class RodModel:
         key_rows = keys // self.n_dofs
         indices = (keys % self.n_dofs).astype(np.int32)
         indptr = np.searchsorted(key_rows, np.arange(self.n_dofs + 1)).astype(np.int32)
-        interior = np.full((7, 7, width, m), -1, dtype=np.int64)
+        # int32 (as the CSR indices): half the bytes the scatter reads at every evaluation
+        interior = np.full((7, 7, width, m), -1, dtype=np.int32)
         interior[mask] = np.searchsorted(keys, rows[mask] * self.n_dofs + columns[mask])
         positions = [
             [np.searchsorted(keys, r * self.n_dofs + c) for r, c in pairs]
