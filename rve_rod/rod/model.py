@@ -202,7 +202,9 @@ class _Pattern(NamedTuple):
     indptr: np.ndarray
     interior: np.ndarray  # (7, 7, p+1, M) int32 data positions, -1 for end rows
     conditions: list  # per condition: list of (r*c,) data positions per block
-    condition_positions: np.ndarray  # all of `conditions` concatenated in order
+    condition_targets: np.ndarray  # the distinct data positions of all of `conditions`
+    condition_slots: np.ndarray  # all of `conditions` concatenated in order, as indices of
+    # condition_targets (the conditions' entries are summed on these few, not on all of data)
 
 
 class RodModel:
@@ -479,8 +481,11 @@ class RodModel:
         )
         jacobian = None
         if with_jacobian:
-            data += np.bincount(
-                self._pattern.condition_positions, np.concatenate(data_values), minlength=data.size
+            pattern = self._pattern
+            data[pattern.condition_targets] += np.bincount(
+                pattern.condition_slots,
+                np.concatenate(data_values),
+                minlength=pattern.condition_targets.size,
             )
             matrix = (self._pattern.indptr, self._pattern.indices, data)
             if load_jacobians:
@@ -780,9 +785,10 @@ class RodModel:
                 "every extra unknown needs an equation"
             )
         flat = [where for per_condition in positions for where in per_condition]
-        return _Pattern(
-            indices, indptr, interior, positions, np.concatenate([np.empty(0, np.int64), *flat])
+        targets, slots = np.unique(
+            np.concatenate([np.empty(0, np.int64), *flat]), return_inverse=True
         )
+        return _Pattern(indices, indptr, interior, positions, targets, slots)
 
 
 def _checked_block(block: Block, n_dofs: int, condition) -> Block:
