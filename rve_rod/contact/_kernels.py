@@ -456,7 +456,8 @@ class SpanChain(NamedTuple):
 
 @record
 class CooEntries(NamedTuple):
-    """Preallocated COO outputs of `block_entries`: (capacity,) rows, columns (int64), values."""
+    """COO entries: (capacity,) rows, columns (int64), values; preallocated outputs of
+    `block_entries`."""
 
     rows: np.ndarray
     columns: np.ndarray
@@ -473,31 +474,35 @@ class CooEntries(NamedTuple):
 
 
 @njit(cache=True)
-def block_entries(blocks, slave, n_points, chain, out):
-    """COO entries of the contact-load derivative with respect to the control points.
+def block_entries(blocks, rows, columns, chain, out):
+    """COO entries of the contact-load derivative with respect to the control points, in the
+    numbering of the caller's matrix.
 
     Args:
         blocks: (4, 3, 3, k) derivative blocks of each load w.r.t. x_s, x_m, C' and x_a.
-        slave: (k,) collocation point of each load.
-        n_points: number of collocation points m (component i of point j is row i m + j).
+        rows: (3, k) int64 matrix row of component i of load c, -1: the row is left out.
+        columns: (n, 3) int64 matrix column of coordinate j of control point a.
         chain: `SpanChain` of the k loads.
         out: `CooEntries`, capacity >= 9 * 3 (p+1) k.
 
-    Block b of span control point a goes to columns 3 (first + a) + j; the master span takes
-    blocks 1 and 2 together. Returns the number of entries written.
+    Block b of span control point a goes to columns[first + a, j]; the master span takes
+    blocks 1 and 2 together. Entries are written load by load, span by span (slave, master,
+    anchor), control point by control point, row by row. Returns the number of entries written.
     """
     first, basis = chain.first, chain.basis
-    rows, columns, values = out.rows, out.columns, out.values
+    out_rows, out_columns, values = out.rows, out.columns, out.values
     n_basis = basis.shape[1]
     count = 0
-    for c in range(slave.size):
+    for c in range(rows.shape[1]):
         for part in range(3):
             start = first[part, c]
             if start < 0:
                 continue
             for a in range(n_basis):
-                column = 3 * (start + a)
                 for i in range(3):
+                    row = rows[i, c]
+                    if row < 0:
+                        continue
                     for j in range(3):
                         if part == 0:
                             value = blocks[0, i, j, c] * basis[0, a, c]
@@ -508,8 +513,8 @@ def block_entries(blocks, slave, n_points, chain, out):
                             )
                         else:
                             value = blocks[3, i, j, c] * basis[3, a, c]
-                        rows[count] = i * n_points + slave[c]
-                        columns[count] = column + j
+                        out_rows[count] = row
+                        out_columns[count] = columns[start + a, j]
                         values[count] = value
                         count += 1
     return count

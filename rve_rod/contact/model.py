@@ -59,6 +59,7 @@ from rve_rod.errors import InputError, check_integer, check_positive
 __all__ = [
     "DEFORMATION_COMPONENTS",
     "ActiveContacts",
+    "ContactDerivatives",
     "ContactModel",
     "ContactOptions",
     "ContactResult",
@@ -185,39 +186,120 @@ class ActiveContacts(NamedTuple):
         return self.normal_load * self.normal + self.friction_load
 
 
+class ContactDerivatives(NamedTuple):
+    """Derivatives of the loads of k active contacts, in the compact form their assemblies
+    read: 3x3 blocks chained to the control points of their spans (`_kernels.block_entries`).
+
+    Attributes:
+        blocks: (4, 3, 3, b) d load / d (x_s, x_m, C', x_a) of b block sets: the k contacts'
+            own (the weighted loads' derivatives), then one per region-weight term (the
+            weight's derivative times the load; `rve_rod.contact.regions`) (N/mm^2).
+        contact: (b,) the contact each block set belongs to: 0 ... k-1, then the terms'.
+        chain: `_kernels.SpanChain` of the b block sets.
+        deformation: (3k, 4) d load / d (F11, F12, F21, F22) per contact, row c k + i for
+            component c of contact i (N/mm).
+        slave: (k,) collocation point loaded by each contact.
+        n_points: collocation points m; n_control_points: control points n.
+    """
+
+    blocks: np.ndarray
+    contact: np.ndarray
+    chain: _kernels.SpanChain
+    deformation: np.ndarray
+    slave: np.ndarray
+    n_points: int
+    n_control_points: int
+
+    def entries(self, rows: np.ndarray, columns: np.ndarray) -> _kernels.CooEntries:
+        """The COO entries (repeated entries to be summed) of d load / d positions in the
+        numbering of the caller's matrix: component c of contact i in row rows[c, i] (left
+        out where -1), coordinate j of control point a in column columns[a, j].
+
+        Args:
+            rows: (3, k) int; columns: (n, 3) int.
+        """
+        rows = np.ascontiguousarray(np.asarray(rows, dtype=np.int64)[:, self.contact])
+        capacity = 27 * self.chain.basis.shape[1] * self.contact.size
+        out = _kernels.CooEntries.empty(capacity)
+        count = _kernels.block_entries(
+            self.blocks, rows, np.asarray(columns, dtype=np.int64), self.chain, out
+        )
+        return _kernels.CooEntries(*(field[:count] for field in out))
+
+    def matrix(self, rows: np.ndarray, n_rows: int) -> scipy.sparse.coo_matrix:
+        """(n_rows, 3n) COO d load / d positions, component c of contact i in row rows[c, i],
+        column 3a + j coordinate j of control point a."""
+        n = self.n_control_points
+        columns = 3 * np.arange(n)[:, None] + np.arange(3)[None, :]
+        entries = self.entries(rows, columns)
+        return scipy.sparse.coo_matrix(
+            (entries.values, (entries.rows, entries.columns)), shape=(n_rows, 3 * n)
+        )
+
+
 @dataclass(frozen=True, eq=False)
 class ContactResult:
     """Line loads at the collocation points and their derivatives.
 
     Attributes:
         line_load: (3, m) contact force per unit length at each collocation point (N/mm).
-        jacobian: (3m, 3n) sparse d line_load / d positions in COO form with repeated
-            entries (summed by `.tocsr()`; map `.row`, `.col` to global equations and dofs
-            before assembling); row c m + j is line_load[c, j] (the C order of line_load, as
-            the rod's LineLoads), column 3i + c is positions[i, c] (N/mm^2). None if not
-            requested.
-        deformation_jacobian: (3m, 4) d line_load / d (F11, F12, F21, F22) (N/mm), rows as in
-            `jacobian`. None if not requested.
+        derivatives: the derivatives of the active contacts' loads (`ContactDerivatives`,
+            which assembles them into any matrix: `rve_rod.rve.coupling`), None if not
+            requested; the properties below give them as matrices.
         contacts: the active contacts.
         statistics: counts of the search and of the contact states.
         trial_history: the friction anchors this state would leave if committed (None without
             friction).
-        contact_jacobian: (3k, 3n) sparse COO d load / d positions of each active contact
-            (row c k + i is component c of contact i's load, `ActiveContacts.load`), for
-            callers that weight contacts individually (e.g. by their lattice image, as the
-            macro stress of the periodic cell does). None if not requested.
-        contact_deformation_jacobian: (3k, 4) d load / d (F11, F12, F21, F22) per contact,
-            rows as in `contact_jacobian`. None if not requested.
     """
 
     line_load: np.ndarray
-    jacobian: scipy.sparse.coo_matrix | None
-    deformation_jacobian: np.ndarray | None
+    derivatives: ContactDerivatives | None
     contacts: ActiveContacts
     statistics: ContactStatistics
     trial_history: FrictionHistory | None
-    contact_jacobian: scipy.sparse.coo_matrix | None = None
-    contact_deformation_jacobian: np.ndarray | None = None
+
+    @property
+    def jacobian(self) -> scipy.sparse.coo_matrix | None:
+        """(3m, 3n) sparse d line_load / d positions in COO form with repeated entries (summed
+        by `.tocsr()`; map `.row`, `.col` to global equations and dofs before assembling);
+        row c m + j is line_load[c, j] (the C order of line_load, as the rod's LineLoads),
+        column 3i + c is positions[i, c] (N/mm^2). None if not requested."""
+        derivatives = self.derivatives
+        if derivatives is None:
+            return None
+        m = derivatives.n_points
+        rows = m * np.arange(3)[:, None] + derivatives.slave[None, :]
+        return derivatives.matrix(rows, 3 * m)
+
+    @property
+    def deformation_jacobian(self) -> np.ndarray | None:
+        """(3m, 4) d line_load / d (F11, F12, F21, F22) (N/mm), rows as in `jacobian`. None if
+        not requested."""
+        derivatives = self.derivatives
+        if derivatives is None:
+            return None
+        slave, k = derivatives.slave, derivatives.slave.size
+        per_contact = derivatives.deformation.reshape(3, k, 4).transpose(0, 2, 1).reshape(12, k)
+        summed = _sum_per_point(slave, per_contact, derivatives.n_points)
+        return summed.reshape(3, 4, -1).transpose(0, 2, 1).reshape(-1, 4)
+
+    @property
+    def contact_jacobian(self) -> scipy.sparse.coo_matrix | None:
+        """(3k, 3n) sparse COO d load / d positions of each active contact (row c k + i is
+        component c of contact i's load, `ActiveContacts.load`), for callers that weight
+        contacts individually (e.g. by their lattice image, as the macro stress of the
+        periodic cell does). None if not requested."""
+        derivatives = self.derivatives
+        if derivatives is None:
+            return None
+        k = derivatives.slave.size
+        return derivatives.matrix(k * np.arange(3)[:, None] + np.arange(k)[None, :], 3 * k)
+
+    @property
+    def contact_deformation_jacobian(self) -> np.ndarray | None:
+        """(3k, 4) d load / d (F11, F12, F21, F22) per contact, rows as in
+        `contact_jacobian`. None if not requested."""
+        return None if self.derivatives is None else self.derivatives.deformation
 
 
 class _Anchors(NamedTuple):
@@ -376,8 +458,9 @@ class ContactModel:
         deformation = self._deformation(deformation_gradient)
         layout = self.layout
         slave_points = layout.collocation_positions(points)
-        detected = self._closest_points(points, slave_points, deformation)
-        regions = self._region_weights(points, slave_points, deformation, detected)
+        coefficients = layout.coefficients(points)
+        detected = self._closest_points(points, coefficients, slave_points, deformation)
+        regions = self._region_weights(coefficients, slave_points, deformation, detected)
         radius = self.law.yarn_radius
         active_rows = np.flatnonzero(detected.state.distance < 2.0 * radius)
         active = detected.subset(active_rows)
@@ -401,11 +484,10 @@ class ContactModel:
             blocks=loads.blocks * weight,
         )
         line_load = _sum_per_point(active.slave, weighted.load, layout.n_points)
-        jacobian = deformation_jacobian = per_contact = None
+        derivatives = None
         if tangent:
             terms = _active_terms(regions.terms, active_rows, detected.slave.size)
-            per_contact = self._linearization(weighted, active, anchors, loads.load, terms)
-            jacobian, deformation_jacobian = _per_point(per_contact, active.slave, layout.n_points)
+            derivatives = self._linearization(weighted, active, anchors, loads.load, terms)
         penetration = 2.0 * radius - active.state.distance
         contacts = ActiveContacts(
             slave=active.slave,
@@ -445,13 +527,10 @@ class ContactModel:
         )
         return ContactResult(
             line_load=line_load,
-            jacobian=jacobian,
-            deformation_jacobian=deformation_jacobian,
+            derivatives=derivatives,
             contacts=contacts,
             statistics=statistics,
             trial_history=trial_history,
-            contact_jacobian=None if per_contact is None else per_contact.positions,
-            contact_deformation_jacobian=None if per_contact is None else per_contact.deformation,
         )
 
     def _anchors(self, points, slave_points, deformation, active: _Selection) -> _Anchors:
@@ -477,8 +556,9 @@ class ContactModel:
 
     # -- search -------------------------------------------------------------------------------
 
-    def _closest_points(self, points, slave_points, deformation) -> _Selection:
-        """Distance minima within the detection radius, own-yarn adjacency excluded."""
+    def _closest_points(self, points, coefficients, slave_points, deformation) -> _Selection:
+        """Distance minima within the detection radius, own-yarn adjacency excluded;
+        coefficients: the spans' (`ContactLayout.coefficients` of points)."""
         layout = self.layout
         radius = self.law.yarn_radius
         reach = 2.0 * radius + self.search_margin
@@ -500,7 +580,7 @@ class ContactModel:
         )
         targets = slave_points[:, candidates.slave] - translations[candidates.image].T
         found = project(
-            layout.coefficients(points),
+            coefficients,
             self._groups.spans,
             layout.span_next,
             layout.span_closed_end,
@@ -553,10 +633,10 @@ class ContactModel:
             ),
         )
 
-    def _region_weights(self, points, slave_points, deformation, detected) -> RegionWeights:
+    def _region_weights(self, coefficients, slave_points, deformation, detected) -> RegionWeights:
         """Region weights of the detected minima (`rve_rod.contact.regions`)."""
         geometry = StrandGeometry(
-            self.layout, points, self._shifts(np.eye(2, dtype=np.int64)) @ deformation.T
+            self.layout, coefficients, self._shifts(np.eye(2, dtype=np.int64)) @ deformation.T
         )
         minima = StrandPoints(
             slave=detected.slave,
@@ -606,99 +686,57 @@ class ContactModel:
         anchors: _Anchors,
         unweighted: np.ndarray,
         terms: WeightTerms,
-    ) -> "_ContactDerivatives":
-        """Per-contact sparse d load / d positions and dense d load / d F from the 3x3
-        derivative blocks (rows c k + i for contact i).
+    ) -> ContactDerivatives:
+        """The derivatives of the contact loads from their 3x3 derivative blocks.
 
         A load at slave point j depends on the control points a of its own span through
         x_s = sum_a N_a(tau_j) P_a, on those of the master span through x_m = sum_b N_b P_b + F L
         and C' = sum_b N_b' P_b, and on the anchor span's through x_a = sum_c N_c P_c + F L_a.
         loads are the weighted loads w l (blocks w dl); the weight derivatives add
-        l c n_q^T (dx_s - dx_q) per term (`unweighted`: (3, k) the loads l).
+        l c n_q^T (dx_s - dx_q) per term (`unweighted`: (3, k) the loads l), one block set each.
         """
-        weighted = self._block_derivatives(loads.blocks, active, anchors)
-        if terms.contact.size == 0:
-            return weighted
-        k = active.slave.size
-        t = terms.contact.size
+        slave, span, tau, shift = active.slave, active.span, active.tau, active.shift
+        layout = self.layout
+        k, t = slave.size, terms.contact.size
+        anchored = np.flatnonzero(anchors.span >= 0)
         outer = np.einsum(
             "ct,dt->cdt", unweighted[:, terms.contact] * terms.coefficient, terms.normal
         )
-        blocks = np.zeros((4, 3, 3, t))
-        blocks[SLAVE] = outer
-        blocks[MASTER] = -outer
-        layout = self.layout
-        first = np.stack(
-            [
-                layout.span_first[layout.point_span[active.slave[terms.contact]]],
-                layout.span_first[terms.span],
-                np.full(t, -1),
-            ]
-        )
-        basis = np.zeros((4, t, layout.degree + 1))
-        basis[0] = layout.point_basis[active.slave[terms.contact]]
-        basis[1] = layout.basis(terms.span, terms.tau)
-        chain = _kernels.SpanChain(
-            np.ascontiguousarray(first), np.ascontiguousarray(basis.transpose(0, 2, 1))
-        )
-        out = _kernels.CooEntries.empty(t * 9 * 2 * (layout.degree + 1))
-        count = _kernels.block_entries(blocks, terms.contact, k, chain, out)
-        rows, columns, values = out
-        positions = weighted.positions
-        jacobian = scipy.sparse.coo_matrix(
-            (
-                np.concatenate([positions.data, values[:count]]),
-                (
-                    np.concatenate([positions.row, rows[:count]]),
-                    np.concatenate([positions.col, columns[:count]]),
-                ),
-            ),
-            shape=positions.shape,
-        )
-        shift = self._shifts(terms.image)
-        extra = np.einsum("iat,tb->tiab", blocks[MASTER][:, :2], shift[:, :2]).reshape(t, 3, 4)
-        deformation = weighted.deformation.reshape(3, k, 4).copy()
-        np.add.at(deformation, (slice(None), terms.contact), extra.transpose(1, 0, 2))
-        return _ContactDerivatives(jacobian, deformation.reshape(3 * k, 4))
-
-    def _block_derivatives(
-        self, blocks: np.ndarray, active: _Selection, anchors: _Anchors
-    ) -> "_ContactDerivatives":
-        """The derivatives of the contact loads from their 3x3 blocks (4, 3, 3, k)."""
-        slave, span, tau, shift = active.slave, active.span, active.tau, active.shift
-        layout = self.layout
-        anchored = anchors.span >= 0
-        first = np.stack(
-            [
-                layout.span_first[layout.point_span[slave]],
-                layout.span_first[span],
-                np.where(anchored, layout.span_first[anchors.span], -1),
-            ]
-        )
-        anchor_basis = np.zeros((slave.size, layout.degree + 1))
-        anchor_basis[anchored] = layout.basis(anchors.span[anchored], anchors.tau[anchored])
-        basis = np.stack(
-            [
-                layout.point_basis[slave],
-                layout.basis(span, tau),
-                layout.basis(span, tau, 1),
-                anchor_basis,
-            ]
-        ).transpose(0, 2, 1)
-        k = slave.size
-        chain = _kernels.SpanChain(np.ascontiguousarray(first), np.ascontiguousarray(basis))
-        out = _kernels.CooEntries.empty(k * 9 * 3 * (layout.degree + 1))
-        count = _kernels.block_entries(blocks, np.arange(k, dtype=np.int64), k, chain, out)
-        rows, columns, values = out
-        shape = (3 * k, 3 * layout.n_control_points)
-        jacobian = scipy.sparse.coo_matrix(
-            (values[:count], (rows[:count], columns[:count])), shape=shape
-        )
+        blocks = np.zeros((4, 3, 3, k + t))
+        blocks[..., :k] = loads.blocks
+        blocks[SLAVE, ..., k:] = outer
+        blocks[MASTER, ..., k:] = -outer
+        slaves = np.concatenate([slave, slave[terms.contact]])
+        first = np.full((3, k + t), -1)
+        first[0] = layout.span_first[layout.point_span[slaves]]
+        first[1] = layout.span_first[np.concatenate([span, terms.span])]
+        first[2, anchored] = layout.span_first[anchors.span[anchored]]
+        basis = np.zeros((4, k + t, layout.degree + 1))
+        basis[0] = layout.point_basis[slaves]
+        basis[1, :k] = layout.basis(span, tau)
+        basis[1, k:] = layout.basis(terms.span, terms.tau)
+        basis[2, :k] = layout.basis(span, tau, 1)
+        basis[3, anchored] = layout.basis(anchors.span[anchored], anchors.tau[anchored])
+        chain = _kernels.SpanChain(first, np.ascontiguousarray(basis.transpose(0, 2, 1)))
         # d load / d F_ab = (d load / d x_m)[:, a] L_b + (d load / d x_a)[:, a] L_a,b.
-        per_contact = np.einsum("iak,kb->ikab", blocks[MASTER][:, :2], shift[:, :2]) + np.einsum(
-            "iak,kb->ikab", blocks[ANCHOR][:, :2], anchors.shift[:, :2]
+        deformation = np.einsum(
+            "iak,kb->ikab", loads.blocks[MASTER][:, :2], shift[:, :2]
+        ) + np.einsum("iak,kb->ikab", loads.blocks[ANCHOR][:, :2], anchors.shift[:, :2])
+        if t:
+            extra = np.einsum(
+                "iat,tb->tiab", -outer[:, :2], self._shifts(terms.image)[:, :2]
+            ).reshape(t, 3, 4)
+            deformation = deformation.reshape(3, k, 4)
+            np.add.at(deformation, (slice(None), terms.contact), extra.transpose(1, 0, 2))
+        return ContactDerivatives(
+            blocks=blocks,
+            contact=np.concatenate([np.arange(k), terms.contact]).astype(np.int64),
+            chain=chain,
+            deformation=deformation.reshape(3 * k, 4),
+            slave=slave,
+            n_points=layout.n_points,
+            n_control_points=layout.n_control_points,
         )
-        return _ContactDerivatives(jacobian, per_contact.reshape(3 * k, 4))
 
     # -- input checks ---------------------------------------------------------------------------
 
@@ -739,30 +777,6 @@ def _active_terms(terms: WeightTerms, active_rows: np.ndarray, detected: int) ->
         normal=terms.normal[:, keep],
         coefficient=terms.coefficient[keep],
     )
-
-
-class _ContactDerivatives(NamedTuple):
-    """Derivatives of the k contact loads: rows c k + i (component c of contact i)."""
-
-    positions: scipy.sparse.coo_matrix  # (3k, 3n)
-    deformation: np.ndarray  # (3k, 4)
-
-
-def _per_point(per_contact: _ContactDerivatives, slave: np.ndarray, n_points: int):
-    """The per-contact derivatives summed over the contacts of each collocation point:
-    (3m, 3n) COO with repeated entries and (3m, 4), rows c m + j."""
-    k = slave.size
-    rows = per_contact.positions.row
-    component, contact = np.divmod(rows, max(k, 1))
-    point_rows = component * n_points + slave[contact]
-    jacobian = scipy.sparse.coo_matrix(
-        (per_contact.positions.data, (point_rows, per_contact.positions.col)),
-        shape=(3 * n_points, per_contact.positions.shape[1]),
-    )
-    deformation = _sum_per_point(
-        slave, per_contact.deformation.reshape(3, k, 4).transpose(0, 2, 1).reshape(12, k), n_points
-    )
-    return jacobian, deformation.reshape(3, 4, -1).transpose(0, 2, 1).reshape(-1, 4)
 
 
 def _as_point_forces(loads: ContactLoads, scale: np.ndarray) -> ContactLoads:

@@ -121,7 +121,8 @@ class StrandGeometry:
 
     Args:
         layout: the contact layout.
-        points: (n, 3) control points (mm).
+        coefficients: (3, p+1, S) power-basis coefficients of the spans at the control points'
+            positions (`ContactLayout.coefficients`) (mm).
         image_vectors: (2, 3) the deformed lattice vectors F a1, F a2 (mm): image (i, j) is
             translated by i F a1 + j F a2 (zeros without a lattice).
 
@@ -130,9 +131,9 @@ class StrandGeometry:
         arcs: the `_kernels.StrandArcs` record.
     """
 
-    def __init__(self, layout: ContactLayout, points: np.ndarray, image_vectors: np.ndarray):
+    def __init__(self, layout: ContactLayout, coefficients: np.ndarray, image_vectors: np.ndarray):
         self.layout = layout
-        self._points = points
+        self._coefficients = coefficients
         self._image_vectors = image_vectors
 
     @functools.cached_property
@@ -146,7 +147,7 @@ class StrandGeometry:
         keys = keys[order]
         first = np.searchsorted(keys, yarn_offset, side="left")
         return _kernels.StrandArcs(
-            coefficients=np.ascontiguousarray(layout.coefficients(self._points)),
+            coefficients=np.ascontiguousarray(self._coefficients),
             span_yarn=layout.span_yarn,
             span_arc_start=layout.span_arc_start,
             span_arc_length=layout.span_arc_length,

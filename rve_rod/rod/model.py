@@ -200,9 +200,11 @@ class _Pattern(NamedTuple):
 
     indices: np.ndarray
     indptr: np.ndarray
-    interior: np.ndarray  # (7, 7, p+1, M) data positions, -1 for end rows
+    interior: np.ndarray  # (7, 7, p+1, M) int32 data positions, -1 for end rows
     conditions: list  # per condition: list of (r*c,) data positions per block
-    condition_positions: np.ndarray  # all of `conditions` concatenated in order
+    condition_targets: np.ndarray  # the distinct data positions of all of `conditions`
+    condition_slots: np.ndarray  # all of `conditions` concatenated in order, as indices of
+    # condition_targets (the conditions' entries are summed on these few, not on all of data)
 
 
 class RodModel:
@@ -479,8 +481,11 @@ class RodModel:
         )
         jacobian = None
         if with_jacobian:
-            data += np.bincount(
-                self._pattern.condition_positions, np.concatenate(data_values), minlength=data.size
+            pattern = self._pattern
+            data[pattern.condition_targets] += np.bincount(
+                pattern.condition_slots,
+                np.concatenate(data_values),
+                minlength=pattern.condition_targets.size,
             )
             matrix = (self._pattern.indptr, self._pattern.indices, data)
             if load_jacobians:
@@ -766,7 +771,8 @@ class RodModel:
         key_rows = keys // self.n_dofs
         indices = (keys % self.n_dofs).astype(np.int32)
         indptr = np.searchsorted(key_rows, np.arange(self.n_dofs + 1)).astype(np.int32)
-        interior = np.full((7, 7, width, m), -1, dtype=np.int64)
+        # int32 (as the CSR indices): half the bytes the scatter reads at every evaluation
+        interior = np.full((7, 7, width, m), -1, dtype=np.int32)
         interior[mask] = np.searchsorted(keys, rows[mask] * self.n_dofs + columns[mask])
         positions = [
             [np.searchsorted(keys, r * self.n_dofs + c) for r, c in pairs]
@@ -779,9 +785,10 @@ class RodModel:
                 "every extra unknown needs an equation"
             )
         flat = [where for per_condition in positions for where in per_condition]
-        return _Pattern(
-            indices, indptr, interior, positions, np.concatenate([np.empty(0, np.int64), *flat])
+        targets, slots = np.unique(
+            np.concatenate([np.empty(0, np.int64), *flat]), return_inverse=True
         )
+        return _Pattern(indices, indptr, interior, positions, targets, slots)
 
 
 def _checked_block(block: Block, n_dofs: int, condition) -> Block:

@@ -248,6 +248,7 @@ class LoopCell:
         )
         self.coupling = ContactCoupling(contact, self.macro, n)
         self._period = period
+        self._offset_derivative = -np.einsum("abk,b->ak", self.macro.derivative(), period)
         self._cuts = tuple(RodEnd(k, END) for k in range(len(self.curves)))
         self._support_columns = offset + free + np.arange(SUPPORT_UNKNOWNS)
         self._regularization = settings.lateral_stiffness * yarn.section.axial / knit.course_height
@@ -302,8 +303,7 @@ class LoopCell:
     def _offset(self, state: np.ndarray, load_factor: float) -> Offset:
         """x(START) - x(END) = -F a1 and its derivative w.r.t. the free components."""
         F = self.macro.matrix(state, load_factor)
-        derivative = -np.einsum("abk,b->ak", self.macro.derivative(), self._period)
-        return Offset(-F @ self._period, self.macro.columns, derivative)
+        return Offset(-F @ self._period, self.macro.columns, self._offset_derivative)
 
     def problem(self) -> NonlinearProblem:
         """The cell as a NonlinearProblem; its commit adopts the friction anchors, and it

@@ -68,6 +68,9 @@ class ContactCoupling:
         self.at_end = np.zeros(patch_of_point.size, dtype=bool)
         self.at_end[self.end_points] = True
         self._n = int(n_control_points)
+        self._position_columns = (
+            DOFS_PER_POINT * np.arange(self._n)[:, None] + np.arange(3)[None, :]
+        )  # (n, 3) state index of position c of control point i
         self._cached: _Cached | None = None
 
     def positions(self, state: np.ndarray) -> np.ndarray:
@@ -109,18 +112,20 @@ class ContactCoupling:
 
     def __call__(self, model, state: np.ndarray, load_factor: float) -> LineLoads:
         result = self.result(state, load_factor)
-        jacobian = result.jacobian
-        n_rows = jacobian.shape[0]
-        # contact column 3i + c is position c of control point i, state index 7i + c
-        columns = DOFS_PER_POINT * (jacobian.col // 3) + jacobian.col % 3
-        rows, values = jacobian.row, jacobian.data
+        derivatives = result.derivatives
+        m, k = result.line_load.shape[1], derivatives.slave.size
+        # component c of contact i loads line-load row c m + slave_i (as LineLoads counts)
+        load_rows = m * np.arange(3)[:, None] + derivatives.slave[None, :]
+        rows, columns, values = derivatives.entries(load_rows, self._position_columns)
         free = self.macro.columns
         if free.size:
-            by_macro = result.deformation_jacobian[:, self.macro.contact_components()]  # (3m, f)
-            rows = np.concatenate([rows, np.repeat(np.arange(n_rows), free.size)])
-            columns = np.concatenate([columns, np.tile(free, n_rows)])
+            by_macro = derivatives.deformation.reshape(3, k, 4)[
+                :, :, self.macro.contact_components()
+            ]  # (3, k, f)
+            rows = np.concatenate([rows, np.repeat(load_rows.ravel(), free.size)])
+            columns = np.concatenate([columns, np.tile(free, 3 * k)])
             values = np.concatenate([values, by_macro.ravel()])
         force_jacobian = scipy.sparse.coo_matrix(
-            (values, (rows, columns)), shape=(n_rows, model.n_dofs)
+            (values, (rows, columns)), shape=(3 * m, model.n_dofs)
         )
         return LineLoads(result.line_load, None, force_jacobian, None)

@@ -170,10 +170,11 @@ class MacroBalance(Condition):
         ends = [context.model.end_values(state, cut) for cut in self.cuts]
         coupling = self.coupling
         result = coupling.result(state, load_factor)
-        contacts = result.contacts
+        contacts, derivatives = result.contacts, result.derivatives
         k = contacts.slave.size
-        per_contact = result.contact_jacobian  # COO, row c k + i: component c of contact i
-        component, contact = np.divmod(per_contact.row, k) if k else (None, None)
+        n_positions = self.position_columns.size
+        # position c of control point i: column 3i + c of the positions' part of the row
+        position_index = np.arange(n_positions).reshape(-1, 3)
         components = self.macro.contact_components()
         columns = np.concatenate([self.position_columns, self.macro.columns])
         period = coupling.lattice[0, 0]
@@ -195,17 +196,20 @@ class MacroBalance(Condition):
             ]
             jacobian = np.zeros(columns.size)
             value = self.regularization * state[unknown] - self.rest_stress[a, b]
-            jacobian[self.position_columns.size + row] = self.regularization
+            jacobian[n_positions + row] = self.regularization
             if k:
                 weights, _ = image_weights(coupling, result, b)
                 value += weights @ contacts.load[a]
-                mine = component == a
-                jacobian[: self.position_columns.size] += np.bincount(
-                    per_contact.col[mine],
-                    weights=per_contact.data[mine] * weights[contact[mine]],
-                    minlength=self.position_columns.size,
+                # d load_a / d positions of contact i, entries in row i
+                load_rows = np.full((3, k), -1)
+                load_rows[a] = np.arange(k)
+                entries = derivatives.entries(load_rows, position_index)
+                jacobian[:n_positions] += np.bincount(
+                    entries.columns,
+                    weights=entries.values * weights[entries.rows],
+                    minlength=n_positions,
                 )
-                by_macro = weights @ result.contact_deformation_jacobian[a * k : (a + 1) * k]
-                jacobian[self.position_columns.size :] += by_macro[components]
+                by_macro = weights @ derivatives.deformation[a * k : (a + 1) * k]
+                jacobian[n_positions:] += by_macro[components]
             blocks.append(Block(rows, np.array([value]), columns, jacobian[None, :]))
         return blocks

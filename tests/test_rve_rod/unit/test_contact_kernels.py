@@ -226,6 +226,8 @@ def test_minimum_on_a_knot_is_owned_by_exactly_one_span():
 
 @pytest.mark.parametrize("contacts", [0, 1, 17])
 def test_block_entries_match_a_dense_numpy_assembly(contacts):
+    """Entries in the caller's numbering (rows of a permuted per-point layout, some left out;
+    columns of a 7-dof state) against a dense assembly of the chained blocks."""
     rng = np.random.default_rng(contacts)
     degree, n_points, n_control = 3, 11, 25
     blocks = rng.normal(size=(4, 3, 3, contacts))
@@ -233,12 +235,15 @@ def test_block_entries_match_a_dense_numpy_assembly(contacts):
     first = rng.integers(0, n_control - degree, size=(3, contacts))
     first[2, ::3] = -1  # some contacts without friction anchor
     basis = rng.normal(size=(4, degree + 1, contacts))
+    point_rows = rng.permutation(3 * n_points).reshape(3, n_points)
+    point_rows[:, 0] = -1  # a point whose rows are left out
+    rows = point_rows[:, slave]
+    columns = 7 * np.arange(n_control)[:, None] + np.arange(3)[None, :]
     out = _kernels.CooEntries.empty(9 * 3 * (degree + 1) * contacts)
     chain = _kernels.SpanChain(first, basis)
-    count = _kernels.block_entries(blocks, slave, n_points, chain, out)
-    rows, columns, values = out
-    assembled = np.zeros((3 * n_points, 3 * n_control))
-    np.add.at(assembled, (rows[:count], columns[:count]), values[:count])
+    count = _kernels.block_entries(blocks, rows, columns, chain, out)
+    assembled = np.zeros((3 * n_points, 7 * n_control))
+    np.add.at(assembled, (out.rows[:count], out.columns[:count]), out.values[:count])
 
     expected = np.zeros((n_points, 3, n_control, 3))
     for c in range(contacts):
@@ -249,8 +254,12 @@ def test_block_entries_match_a_dense_numpy_assembly(contacts):
             )
             if first[2, c] >= 0:
                 expected[slave[c], :, first[2, c] + a] += blocks[3, ..., c] * basis[3, a, c]
-    expected = expected.transpose(1, 0, 2, 3).reshape(3 * n_points, 3 * n_control)
-    np.testing.assert_allclose(assembled, expected, atol=1e-13)
+    expected[0] = 0.0
+    dense = np.zeros((3 * n_points, 7 * n_control))
+    for i in range(3):
+        for j in range(3):
+            dense[point_rows[i, 1:, None], columns[None, :, j]] = expected[1:, i, :, j]
+    np.testing.assert_allclose(assembled, dense, atol=1e-13)
 
 
 IDENTITY = np.eye(3)[:, :, None]

@@ -359,7 +359,7 @@ def test_separating_maximum_kernel_matches_its_numpy_twin_and_a_dense_sampling(t
     # the minima lie near t = +-0.8 of t in [-1.8, 1.8] (arc fractions about 0.28, 0.72),
     # the maximum between them at t = 0
     start, stop = 0.32 * length, 0.68 * length
-    geometry = StrandGeometry(layout, scene.positions, np.zeros((2, 3)))
+    geometry = StrandGeometry(layout, layout.coefficients(scene.positions), np.zeros((2, 3)))
     ends = [
         StrandPoints(
             slave=np.array([MIDDLE]),

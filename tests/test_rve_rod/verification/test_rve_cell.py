@@ -205,6 +205,25 @@ def test_cell_jacobian_matches_central_differences(name, friction):
 
 
 @pytest.mark.parametrize("friction", [False, True])
+def test_coupling_assembles_the_contact_derivatives_entry_by_entry(friction):
+    """The coupling's derivatives (the contacts' blocks chained straight into the rod's
+    numbering by one kernel pass) are the contact's per-point matrices mapped to the state:
+    d line load / d positions at columns 7i + c, and d line load / d F at the free unknowns."""
+    cell, state = loaded_state("uniaxial-course", friction)
+    result = cell.coupling.result(state, UNLOADED)
+    assert result.contacts.slave.size > 4
+    assembled = cell.coupling(cell.model, state, UNLOADED).force_jacobian.toarray()
+    by_positions = result.jacobian.toarray()
+    expected = np.zeros_like(assembled)
+    for c in range(3):
+        expected[:, 7 * np.arange(by_positions.shape[1] // 3) + c] = by_positions[:, c::3]
+    components = cell.macro.contact_components()
+    expected[:, cell.macro.columns] = result.deformation_jacobian[:, components]
+    assert np.abs(expected).max() > 0
+    np.testing.assert_allclose(assembled, expected, rtol=1e-14, atol=1e-14 * np.abs(expected).max())
+
+
+@pytest.mark.parametrize("friction", [False, True])
 def test_newton_error_after_one_step_is_quadratic(friction):
     """Error after one Newton step from perturbed solutions: slope 2 in the perturbation size.
     Beyond relative perturbations of about 1e-7 a contact near the Coulomb cone may switch
