@@ -22,6 +22,7 @@ __all__ = [
     "PLANE",
     "SPACE",
     "FieldExpression",
+    "expression_coordinates",
     "piecewise_linear",
 ]
 
@@ -29,6 +30,12 @@ PLANE = ("x", "y")
 """The coordinates of an expression on a plane part."""
 SPACE = ("x", "y", "z")
 """The coordinates of an expression on a part in space (a flat one has z = 0)."""
+
+
+def expression_coordinates(in_space: bool) -> tuple[str, ...]:
+    """The coordinates a part's expressions may use: SPACE in space, else PLANE."""
+    return SPACE if in_space else PLANE
+
 
 FUNCTIONS = {
     "sin": np.sin,

@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 
 from fabric_dolfinx.spec.contents import GmshContents, part_contents
-from fabric_dolfinx.spec.expression import PLANE, SPACE, FieldExpression
+from fabric_dolfinx.spec.expression import FieldExpression, expression_coordinates
 from fabric_dolfinx.spec.mesh_checks import check_geo_parameters
 from fabric_dolfinx.spec.part import (
     BOUNDARY_KINDS,
@@ -100,9 +100,8 @@ class RegionSpec:
         knit: knit values overriding the [fabric] knit (KNIT_KEYS).
         surface: a response-surface file to use as it is (absolute path), or None.
         svk: orthotropic SVK constants (N/mm) instead of a knit (verification), or None.
-        graded_stitch: a stitch value varying over the region (an expression of x, y and,
-            in space, z; mm),
-            or None; its law interpolates the surfaces at `members` (`fabric_dolfinx.graded`).
+        graded_stitch: a stitch value varying over the region (an expression of x, y, mm), or
+            None; its law interpolates the surfaces at `members` (`fabric_dolfinx.graded`).
         members: the preset's stitch values a graded region needs (those bracketing its
             range), increasing.
     """
@@ -140,7 +139,7 @@ class PartSpec:
     @property
     def coordinates(self) -> tuple[str, ...]:
         """The coordinates the part's expressions may use: x, y, and z in space."""
-        return PLANE if self.space is None else SPACE
+        return expression_coordinates(self.space is not None)
 
     def resolved(self, elements: int) -> "PartSpec":
         """With the element size of a built-in shape filled in: its characteristic length
@@ -190,9 +189,9 @@ def read_part(
                 contents = part_contents(spec, plane="space" not in data)
         except InputError as error:
             problems.append(f"fabric.mesh.file: {error}")
-    coordinates = PLANE if "space" not in data else SPACE
+    axes = expression_coordinates("space" in data)
     region_specs = tuple(
-        _read_region(i, table, problems, base, coordinates)
+        _read_region(i, table, problems, base, axes)
         for i, table in enumerate(_tables("region", regions, problems))
     ) or (RegionSpec(name="fabric"),)
     names = [r.name for r in region_specs]
@@ -200,7 +199,7 @@ def read_part(
         problems.append(f"region: the name {name!r} is given twice")
     region_specs = tuple(
         _graded_members(
-            index, region, fabric_table, _points(spec, contents, region, coordinates), problems
+            index, region, fabric_table, _points(spec, contents, region, axes), problems, axes
         )
         if region.graded_stitch is not None
         else region
@@ -220,7 +219,7 @@ def read_part(
             except (InputError, TypeError) as error:
                 problems.append(f"region[{index}]: {error}")
     boundary_specs = tuple(
-        _read_boundary(i, table, problems, "".join(coordinates))
+        _read_boundary(i, table, problems, "".join(axes))
         for i, table in enumerate(_tables("boundary", boundaries, problems))
     )
     if boundaries is None or not boundary_specs:
@@ -378,10 +377,16 @@ def _points(
 
 
 def _graded_members(
-    index: int, region: RegionSpec, fabric: dict, points: np.ndarray | None, problems: list[str]
+    index: int,
+    region: RegionSpec,
+    fabric: dict,
+    points: np.ndarray | None,
+    problems: list[str],
+    axes: tuple[str, ...],
 ) -> RegionSpec:
-    """The region with the preset stitch values its graded stitch needs at `points` (all of
-    them when None or empty); problems when the preset has no family or the stitch leaves it."""
+    """The region with the preset stitch values its graded stitch (an expression of `axes`)
+    needs at `points` (all of them when None or empty); problems when the preset has no family
+    or the stitch leaves it."""
     key = f"region[{index}].stitch"
     preset = region.knit.get("preset", fabric.get("preset"))
     values = stitch_values(preset) if isinstance(preset, str) else []
@@ -391,8 +396,7 @@ def _graded_members(
     values = sorted(float(v) for v in values)
     if points is None or len(points) == 0:
         return replace(region, members=tuple(values))
-    # the expression's coordinates were checked when it was read (x, y, and z in space)
-    stitch = FieldExpression(region.graded_stitch, key, SPACE)(*points.T)
+    stitch = FieldExpression(region.graded_stitch, key, axes)(*points.T)
     low, high = float(stitch.min()), float(stitch.max())
     if low < values[0] - 1e-9 or high > values[-1] + 1e-9:
         problems.append(
