@@ -90,15 +90,13 @@ class _Chain:
         self.arrays = Chain(self.control_points, np.asarray(self.knots, dtype=float), period)
         """The chain as `rve_rod.geometry._kernels` takes it."""
 
-    def evaluate(self, s: np.ndarray, order: int = 0, basis=None) -> np.ndarray:
-        """Points and derivatives with respect to s, shape (order+1, m, 3); `basis` may hold
-        the basis functions at s - floor(s) when they are known already."""
+    def evaluate(self, s: np.ndarray, basis: BasisValues) -> np.ndarray:
+        """Points and derivatives with respect to s, shape (order+1, m, 3), from the basis
+        functions (and their derivatives up to the order) at s - floor(s)."""
         n = self.control_points.shape[0]
         whole = np.floor(s)
         wraps = np.floor_divide(whole, n)
         index = (whole - wraps * n).astype(int)
-        if basis is None:
-            basis = basis_functions(self.knots, self.degree, s - whole, order)
         columns = basis.spans[:, None] - self.degree + np.arange(self.degree + 1)[None, :]
         local = self.control_points[index[:, None], columns]  # (m, p+1, 3)
         out = np.einsum("kma,mad->kmd", basis.values, local)
@@ -131,7 +129,7 @@ def chain_clearance(
     chain = _Chain(tuple(curves), lattice[0])
     n = len(curves)
     s = (np.arange(n * _SAMPLES_PER_CURVE) + 0.5) / _SAMPLES_PER_CURVE
-    points = chain.evaluate(s, basis=_sample_basis(chain.degree, tuple(chain.knots), n))[0]
+    points = chain.evaluate(s, _sample_basis(chain.degree, tuple(chain.knots), n))[0]
     steps = np.linalg.norm(np.diff(points, axis=0, append=points[:1] + lattice[0]), axis=1)
     arc = np.concatenate([[0.0], np.cumsum(steps)[:-1]])
     period_length = steps.sum()
@@ -196,7 +194,7 @@ def cell_clearance(
         chain = _Chain(tuple(yarn), lattice[0])
         n = len(yarn)
         s = (np.arange(n * _SAMPLES_PER_CURVE) + 0.5) / _SAMPLES_PER_CURVE
-        sampled = chain.evaluate(s, basis=_sample_basis(chain.degree, tuple(chain.knots), n))[0]
+        sampled = chain.evaluate(s, _sample_basis(chain.degree, tuple(chain.knots), n))[0]
         steps = np.linalg.norm(np.diff(sampled, axis=0, append=sampled[:1] + lattice[0]), axis=1)
         chains.append(chain)
         params.append(s)

@@ -6,6 +6,13 @@ import numpy as np
 import scipy.spatial
 
 from rve_rod.geometry import proximity
+from rve_rod.geometry.bspline import basis_functions
+
+
+def _evaluate(chain, s: np.ndarray, order: int = 0) -> np.ndarray:
+    """Points of a `proximity._Chain` at s and their derivatives up to `order`."""
+    basis = basis_functions(chain.knots, chain.degree, s - np.floor(s), order)
+    return chain.evaluate(s, basis)
 
 
 def nearest_reference(samples, offset, shift, adjacent_arc):
@@ -27,7 +34,9 @@ def refine_reference(
     k = s.size
 
     def distance(at_s: np.ndarray, at_t: np.ndarray, shift: np.ndarray) -> np.ndarray:
-        return np.linalg.norm(first.evaluate(at_s)[0] - second.evaluate(at_t)[0] - shift, axis=1)
+        return np.linalg.norm(
+            _evaluate(first, at_s)[0] - _evaluate(second, at_t)[0] - shift, axis=1
+        )
 
     s, t = s.astype(float), t.astype(float)
     current = distance(s, t, offsets)
@@ -36,7 +45,7 @@ def refine_reference(
     for _ in range(proximity._NEWTON_ITERATIONS):
         if not active.any():
             break
-        values = np.concatenate([first.evaluate(s, 2), second.evaluate(t, 2)], axis=1)
+        values = np.concatenate([_evaluate(first, s, 2), _evaluate(second, t, 2)], axis=1)
         d = values[0, :k] - values[0, k:] - offsets
         xs, xt = values[1, :k], values[1, k:]
         gradient = np.stack([np.sum(d * xs, 1), -np.sum(d * xt, 1)], axis=1)

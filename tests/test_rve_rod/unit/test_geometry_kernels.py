@@ -87,7 +87,7 @@ def cell_samples(pattern, w, c):
         s = (np.arange(len(yarn) * proximity._SAMPLES_PER_CURVE) + 0.5) / (
             proximity._SAMPLES_PER_CURVE
         )
-        points = chain.evaluate(s)[0]
+        points = chain.evaluate(s, basis_functions(chain.knots, chain.degree, s - np.floor(s)))[0]
         steps = np.linalg.norm(np.diff(points, axis=0, append=points[:1] + cell.lattice[0]), axis=1)
         found.append((points, np.concatenate([[0.0], np.cumsum(steps)[:-1]]), steps.sum()))
     return found, cell.lattice
