@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Install what is missing, idempotently: Debian packages, the venv, the project (editable).
+# Install what is missing, idempotently: Debian packages, the venv, the project (editable),
+# the compiled numba kernels.
 # Fast when everything is already there (a dpkg query and a stamp-file check).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,4 +37,15 @@ if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
         exit 1
     fi
     touch "$stamp"
+fi
+
+# numba compiles the yarn engine's kernels at their first call and caches them beside their
+# sources; compile them here, once per environment (about 20 s), rather than in the first run
+# (rve_rod/compile_kernels.py). Again when a kernel module changed since.
+kernels="$venv/.kernels"
+if [ ! -f "$kernels" ] || [ "$stamp" -nt "$kernels" ] ||
+   [ -n "$(find rve_rod -name _kernels.py -newer "$kernels")" ]; then
+    echo "bootstrap: compiling the yarn engine's numba kernels (once, about 20 s)"
+    "$venv/bin/python" -m rve_rod.compile_kernels
+    touch "$kernels"
 fi
