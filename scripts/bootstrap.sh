@@ -25,6 +25,18 @@ if [ ! -x "$venv/bin/python" ]; then
     echo "bootstrap: creating $venv from /usr/bin/python3 with system site packages"
     /usr/bin/python3 -m venv --system-site-packages "$venv"
 fi
+# numba compiles the yarn engine's kernels at their first call and caches them beside their
+# sources; compile them here, once per environment (about 20 s of CPU), rather than in the
+# first run (rve_rod/compile_kernels.py), and again when a kernel module changed since. From
+# the source tree, so that it runs beside pip's install.
+kernels="$venv/.kernels"
+compiling=""
+if [ ! -f "$kernels" ] || [ -n "$(find rve_rod -name _kernels.py -newer "$kernels")" ]; then
+    echo "bootstrap: compiling the yarn engine's numba kernels (once, about 20 s)"
+    PYTHONPATH="$PWD" "$venv/bin/python" -m rve_rod.compile_kernels &
+    compiling=$!
+fi
+
 stamp="$venv/.installed"
 if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
     echo "bootstrap: installing the project (editable) and test tools"
@@ -38,14 +50,10 @@ if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
     fi
     touch "$stamp"
 fi
-
-# numba compiles the yarn engine's kernels at their first call and caches them beside their
-# sources; compile them here, once per environment (about 20 s), rather than in the first run
-# (rve_rod/compile_kernels.py). Again when a kernel module changed since.
-kernels="$venv/.kernels"
-if [ ! -f "$kernels" ] || [ "$stamp" -nt "$kernels" ] ||
-   [ -n "$(find rve_rod -name _kernels.py -newer "$kernels")" ]; then
-    echo "bootstrap: compiling the yarn engine's numba kernels (once, about 20 s)"
-    "$venv/bin/python" -m rve_rod.compile_kernels
+if [ -n "$compiling" ]; then
+    if ! wait "$compiling"; then
+        echo "bootstrap: compiling the numba kernels failed (messages above)" >&2
+        exit 1
+    fi
     touch "$kernels"
 fi
