@@ -52,6 +52,7 @@ __all__ = [
     "QuarterSamples",
     "adjusted_radius",
     "loop_geometry",
+    "loop_length_gradient",
     "loop_polylines",
     "shoulder_radius_bounds",
     "single_jersey_loop",
@@ -329,6 +330,31 @@ def adjusted_radius(minimal_radius: float, wale_width: float) -> float:
 def loop_geometry(knit: Knit, minimal_radius: float) -> LoopGeometry:
     """The loop of a knit (wale width, course height) with yarn radius r0 (mm)."""
     return single_jersey_loop(knit.wale_width, knit.course_height, minimal_radius)
+
+
+def loop_length_gradient(
+    wale_width: float, course_height: float, yarn_radius: float, step: float = 0.01
+) -> np.ndarray:
+    """(2,) (w dL/dw, c dL/dc) (mm): how the minimum-length loop's length L grows with a
+    course-wise and a wale-wise strain of the knit, the yarn radius r held (a finite
+    difference of relative size `step`: central in c, forward in w, since a narrower loop
+    could not hold r = w/8). A taut loop of inextensible yarn can only deform along the null
+    direction of this gradient (docs/validation.md, "What the shape of their response says")."""
+    w = check_positive("wale_width", wale_width, "mm")
+    c = check_positive("course_height", course_height, "mm")
+    r = check_positive("yarn_radius", yarn_radius, "mm")
+    if r > RADIUS_PER_WALE_WIDTH * w * (1 + 1e-12):
+        raise InputError(
+            f"yarn_radius={r!r} mm is out of range: 0 < r <= w/8 = {RADIUS_PER_WALE_WIDTH * w!r} mm"
+        )
+    check_range("step", step, 1e-4, 0.1)
+
+    def length(wale: float, course: float) -> float:
+        return single_jersey_loop(wale, course, r).loop_length
+
+    along_w = (length(w * (1 + step), c) - length(w, c)) / step
+    along_c = (length(w, c * (1 + step)) - length(w, c * (1 - step))) / (2 * step)
+    return np.array([along_w, along_c])
 
 
 RADIUS_ADJUSTMENT_WARNING = 1.25

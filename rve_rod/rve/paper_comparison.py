@@ -14,12 +14,14 @@ got (the rest is NaN and counts as a failure).
 `uniaxial_comparison(fabric, settings)` gives our uniaxial course- and wale-wise forces and
 Poisson ratios at the strains of `paper_data.UNIAXIAL_READINGS`; `secant_at_rest` the secant
 stiffness at rest through the first states of their two rays nearest the axes (`AXIS_RAYS`);
-`first_increment_ratio` whether a ray starts slack (and stiffens) or taut.
+`first_increment_ratio` whether a ray starts slack (and stiffens) or taut; `taut_loop_split`
+how much of a stiffness at rest runs through the length of the loop.
 """
 
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -34,12 +36,14 @@ __all__ = [
     "AXIS_RAYS",
     "TARGET",
     "RunComparison",
+    "TautLoopSplit",
     "UniaxialComparison",
     "compare_run",
     "first_increment_ratio",
     "run_case",
     "run_or_history",
     "secant_at_rest",
+    "taut_loop_split",
     "uniaxial_comparison",
 ]
 
@@ -217,3 +221,32 @@ def first_increment_ratio(deformation: np.ndarray, stresses: np.ndarray) -> floa
     first = np.linalg.norm(stresses[0]) / np.linalg.norm(strains[0])
     second = np.linalg.norm(stresses[1] - stresses[0]) / np.linalg.norm(strains[1] - strains[0])
     return float(first / second)
+
+
+class TautLoopSplit(NamedTuple):
+    """A stiffness at rest C = k a a^T + diag(rest) (`taut_loop_split`).
+
+    Attributes:
+        stiffness: k (N/mm^3), the stiffness of the loop's length: a strain E stretches the
+            loop's yarn by a . E (mm) and takes the stress k a (a . E) (N/mm).
+        rest: (2,) what C11 and C22 hold besides (N/mm): bending, contacts, all that does not
+            run through the loop's length; a negative value says that C does not fit this
+            form with this a.
+        coupling: C12 C21 / (C11 C22) (-): 0 for a cell whose two directions are uncoupled, 1
+            for a loop of inextensible yarn that deforms only at constant length.
+    """
+
+    stiffness: float
+    rest: np.ndarray
+    coupling: float
+
+
+def taut_loop_split(stiffness: np.ndarray, gradient: np.ndarray) -> TautLoopSplit:
+    """Split a (2, 2) secant stiffness at rest C (N/mm; S = C E) into the part that runs through
+    the loop's length, k a a^T with a = `rve_rod.geometry.loop.loop_length_gradient` (2,) (mm)
+    and k = sqrt(C12 C21) / (a1 a2), and the diagonal rest (`TautLoopSplit`)."""
+    c = np.asarray(stiffness, dtype=float)
+    a = np.asarray(gradient, dtype=float)
+    product = c[0, 1] * c[1, 0]
+    k = float(np.sqrt(max(product, 0.0)) / (a[0] * a[1]))
+    return TautLoopSplit(k, np.diagonal(c) - k * a**2, float(product / (c[0, 0] * c[1, 1])))

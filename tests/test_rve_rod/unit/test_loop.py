@@ -14,6 +14,7 @@ from rve_rod.geometry.loop import (
     SHOULDER_ASPECT,
     LoopShape,
     _smallest_clear_depth,
+    loop_length_gradient,
     shoulder_radius_bounds,
     single_jersey_loop,
 )
@@ -274,3 +275,24 @@ def test_shoulder_radius_minimizes_the_loop_length(knit):
 def test_bad_input_is_refused(arguments, message):
     with pytest.raises(InputError, match=message):
         single_jersey_loop(*arguments)
+
+
+def test_the_loop_length_gradient_obeys_eulers_relation_of_a_scale_free_loop():
+    """The loop has no length scale but w, c and r: L(s w, s c, s r) = s L, so
+    w dL/dw + c dL/dc + r dL/dr = L (r dL/dr by a central difference here, r below w/8)."""
+    w, c = 1.33, 1.26
+    r = 0.9 * w / 8
+    gradient = loop_length_gradient(w, c, r)
+    assert np.all(gradient > 0)
+    h = 0.01
+    along_r = (
+        single_jersey_loop(w, c, r * (1 + h)).loop_length
+        - single_jersey_loop(w, c, r * (1 - h)).loop_length
+    ) / (2 * h)
+    length = single_jersey_loop(w, c, r).loop_length
+    assert gradient.sum() + along_r == pytest.approx(length, rel=0.005)
+
+
+def test_the_loop_length_gradient_refuses_a_yarn_wider_than_the_loop_holds():
+    with pytest.raises(InputError, match=r"yarn_radius=0\.2 mm is out of range"):
+        loop_length_gradient(1.33, 1.26, 0.2)

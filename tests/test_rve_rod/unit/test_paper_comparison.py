@@ -10,6 +10,7 @@ from rve_rod.rve.paper_comparison import (
     compare_run,
     first_increment_ratio,
     secant_at_rest,
+    taut_loop_split,
 )
 from rve_rod.rve.paper_data import biaxial_rays, shear_run
 from rve_rod.rve.simulation import RveSettings
@@ -103,3 +104,19 @@ def test_the_first_increment_ratio_is_one_when_linear_and_tells_stiffening_from_
         stresses = [stiffness @ (k * strains[0]) * (1 + b * k * e) for k in (1, 2)]
         expected = (1 + b * e) / (1 + 3 * b * e)
         assert first_increment_ratio(ray_f, stresses) == pytest.approx(expected, rel=1e-12)
+
+
+def test_the_taut_loop_split_recovers_the_length_stiffness_and_the_rest():
+    gradient = np.array([1.25, 2.4])  # mm
+    k, rest = 3.0, np.array([0.7, 1.9])  # N/mm^3, N/mm
+    stiffness = k * np.outer(gradient, gradient) + np.diag(rest)
+    split = taut_loop_split(stiffness, gradient)
+    assert split.stiffness == pytest.approx(k, rel=1e-12)
+    np.testing.assert_allclose(split.rest, rest, rtol=1e-12)
+    expected = (k * 1.25 * 2.4) ** 2 / (stiffness[0, 0] * stiffness[1, 1])
+    assert split.coupling == pytest.approx(expected, rel=1e-12)
+    # an inextensible loop (no rest) couples fully, an uncoupled cell not at all
+    assert taut_loop_split(k * np.outer(gradient, gradient), gradient).coupling == pytest.approx(1)
+    uncoupled = taut_loop_split(np.diag(rest), gradient)
+    assert uncoupled.stiffness == 0.0 and uncoupled.coupling == 0.0
+    np.testing.assert_array_equal(uncoupled.rest, rest)

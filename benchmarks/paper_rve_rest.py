@@ -1,0 +1,95 @@
+"""How much of the stiffness at rest runs through the loop's length: theirs and ours (issue 27).
+
+For cotton 20s/2 at stitch 4.5, 5.5 and 6.5: the secant stiffness at rest C (S = C E through
+the first states of the paper group's two rays nearest the axes, `paper_comparison.secant_at_rest`),
+theirs and ours (the first state of the same two rays), split by
+`paper_comparison.taut_loop_split` into a part k a a^T that runs through the loop's length
+(a = (w dL/dw, c dL/dc) of our minimum-length loop at the fabric's w, c and r:
+`rve_rod.geometry.loop.loop_length_gradient`) and a diagonal rest. Printed per stitch value
+and model: C (gf/cm), the coupling C12 C21 / (C11 C22) (1 for a loop of inextensible yarn that
+deforms only at constant length, 0 for uncoupled directions), k (gf/cm per mm^2), k over the
+affine yarn's EA / (L w c) (the stiffness of the loop's length if the yarn alone carried it,
+EA of the model's rods, L the template's loop length), and the rest (gf/cm; negative where C
+does not fit the form with our a). The table goes into docs/validation.md ("What the shape of
+their response says", point 6).
+
+    .venv/bin/python benchmarks/paper_rve_rest.py [--control-points 68]
+
+Two minutes at 68 control points on the shared 2-core machine (2026-11-27).
+"""
+
+import argparse
+import time
+
+import numpy as np
+
+from rve_rod.geometry.loop import loop_length_gradient, single_jersey_loop
+from rve_rod.presets import load_preset
+from rve_rod.rve.cell import CellSettings
+from rve_rod.rve.paper_comparison import AXIS_RAYS, compare_run, secant_at_rest, taut_loop_split
+from rve_rod.rve.paper_data import biaxial_rays
+from rve_rod.rve.simulation import RveSettings
+from rve_rod.rve.yarn import YarnSettings, yarn_model
+from rve_rod.units import n_per_mm_to_gf_per_cm
+
+STITCHES = (4.5, 5.5, 6.5)
+MODELS = {
+    "free fibres (the default)": YarnSettings(),
+    "section (the paper's ingredients)": YarnSettings(bending="section"),
+    "free fibres, contact x3": YarnSettings(contact_stiffness_factor=0.03),
+    "free fibres, contact at r0 (squeezed rest)": YarnSettings(contact_radius="measured"),
+    "section, contact at r0": YarnSettings(bending="section", contact_radius="measured"),
+    "free fibres, contact at r0, frictionless": YarnSettings(
+        contact_radius="measured", friction=False
+    ),
+}
+
+
+def _row(stitch, model, stiffness, gradient, affine):
+    split = taut_loop_split(stiffness, gradient)
+    c = n_per_mm_to_gf_per_cm(np.asarray(stiffness))
+    k = n_per_mm_to_gf_per_cm(split.stiffness)
+    rest = n_per_mm_to_gf_per_cm(split.rest)
+    print(
+        f"| {stitch} | {model} | {c[0, 0]:.0f} / {c[0, 1]:.0f} / {c[1, 0]:.0f} / {c[1, 1]:.0f} "
+        f"| {split.coupling:.2f} | {k:.1f} | {split.stiffness / affine:.3f} "
+        f"| {rest[0]:.0f} / {rest[1]:.0f} |",
+        flush=True,
+    )
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--control-points", type=int, default=68)
+    args = parser.parse_args()
+    print(
+        "| stitch | model | C11 / C12 / C21 / C22 (gf/cm) | coupling | k (gf/cm/mm^2) "
+        "| k / affine | rest C11, C22 (gf/cm) |\n|---:|---|---|---:|---:|---:|---|"
+    )
+    for stitch in STITCHES:
+        fabric = load_preset("cotton-20s2", stitch)
+        w, c = fabric.knit.wale_width, fabric.knit.course_height
+        loop = single_jersey_loop(w, c, fabric.yarn.minimal_radius)
+        gradient = loop_length_gradient(w, c, loop.yarn_radius)
+        rays = biaxial_rays(stitch)
+        axes = [min(rays, key=lambda ray, a=a: abs(ray.angle_deg - a)) for a in AXIS_RAYS]
+        theirs = secant_at_rest(axes, [np.diagonal(ray.second_piola[0]) for ray in axes])
+        yarn = yarn_model(fabric)
+        affine = yarn.section.axial / (loop.loop_length * w * c)
+        print(
+            f"| {stitch} | a = (w dL/dw, c dL/dc) = ({gradient[0]:.3f}, {gradient[1]:.3f}) mm, "
+            f"L = {loop.loop_length:.3f} mm, EA = {yarn.section.axial:.2f} N | | | | | |"
+        )
+        _row(stitch, "theirs", theirs, gradient, affine)
+        for name, yarn_settings in MODELS.items():
+            started = time.perf_counter()
+            settings = RveSettings(
+                cell=CellSettings(control_points=args.control_points), yarn=yarn_settings
+            )
+            first = [compare_run(fabric, ray, settings, states=1).second_piola[0] for ray in axes]
+            ours = secant_at_rest(axes, [np.diagonal(s) for s in first])
+            _row(stitch, f"{name} ({time.perf_counter() - started:.0f} s)", ours, gradient, affine)
+
+
+if __name__ == "__main__":
+    main()
