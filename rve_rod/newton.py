@@ -18,6 +18,16 @@ convergence the two differ by the order of the last increment); only if that ite
 accepted is it evaluated with its Jacobian. A converged step then costs no Jacobian that is
 not used.
 
+The floor of round-off. Where J has soft modes (a cell of several yarn patches held by weak
+ties: condition numbers of 1e15), the correction of a state whose residual is at round-off
+is that round-off through the soft modes, and it need not fall below the increment tolerance
+however long Newton goes on. So a state is also accepted when the scaled residual has met its
+tolerance at the last `ROUND_OFF_ITERATES` iterates without falling over them (it grew at
+least once, and the last is at least half the first): quadratic convergence would have cut
+it by orders, linear convergence (an inconsistent tangent) would have lowered it at every
+iterate, so what is left is round-off, not the state's error (C. T. Kelley, Iterative
+Methods for Linear and Nonlinear Equations, SIAM 1995, 5.4: the attainable accuracy).
+
 A step whose Newton iteration fails (non-finite values, residual growth beyond
 `divergence_factor`, or `max_iterations` reached) is retried with half the increment, down to
 `min_increment` and at most `max_cutbacks` times in a row; easy steps let the increment grow
@@ -51,6 +61,7 @@ Numer. Anal. 19 (1982) 400; Eisenstat and Walker, SIAM J. Sci. Comput. 17 (1996)
 linear residual below 1 % of the residual tolerance is asked for.
 """
 
+import itertools
 import logging
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -72,6 +83,7 @@ from rve_rod.stepping import StepController, SteppingOptions
 
 __all__ = [
     "LINEAR_SOLVER_OPTIONS",
+    "ROUND_OFF_ITERATES",
     "LinearSolver",
     "NewtonOptions",
     "NewtonResult",
@@ -124,6 +136,11 @@ LINEAR_SOLVER_OPTIONS = ("ordering", "pivot_threshold", "refinement", "linear_to
 the cost of a solve, not its solution beyond the Newton tolerances (every increment is a
 direct solve or meets its linear tolerance, and every converged state meets the residual
 and increment tolerances), so cache keys leave them out (`rve_rod.rve.RodRve`)."""
+
+
+ROUND_OFF_ITERATES = 3
+"""Iterates in a row whose residual meets its tolerance without falling before a state is
+accepted at the floor of round-off (module docstring)."""
 
 
 @dataclass(frozen=True)
@@ -192,7 +209,8 @@ class NewtonResult:
     Attributes:
         state: the last iterate (the solution if `converged`).
         load_factor: t.
-        converged: whether both norms met their tolerances.
+        converged: whether both norms met their tolerances (or the residual sat at the floor
+            of round-off: module docstring).
         iterations: Newton iterations done (linear solves; the last of a converged solve
             finds the correction within tolerance and is not applied).
         residual_norms: scaled residual max-norm before the first and after every applied
@@ -323,6 +341,15 @@ def _forcing(options: NewtonOptions, size: float) -> float:
         return options.linear_tolerance
     floor = _FORCING_FLOOR * options.residual_tolerance / size
     return min(_FORCING_MAX, max(options.linear_tolerance, size, floor))
+
+
+def _at_round_off(residual_norms: list[float], options: NewtonOptions) -> bool:
+    """Whether the residual sits at the floor of round-off (module docstring)."""
+    last = residual_norms[-ROUND_OFF_ITERATES:]
+    if len(last) < ROUND_OFF_ITERATES or max(last) > options.residual_tolerance:
+        return False
+    grew = any(later > earlier for earlier, later in itertools.pairwise(last))
+    return grew and last[-1] >= 0.5 * last[0]
 
 
 def _expect_convergence(residual_norms: list[float], options: NewtonOptions) -> bool:
@@ -564,7 +591,18 @@ def newton_solve(
         if not np.isfinite(increment_norms[-1]):
             reason = "not finite"
             break
-        if (
+        at_floor = increment_norms[-1] > options.increment_tolerance and _at_round_off(
+            residual_norms, options
+        )
+        if at_floor:
+            logger.debug(
+                "t=%.6g: residual %.3e at round-off for %d iterates, correction %.3e: accepted",
+                load_factor,
+                residual_norms[-1],
+                ROUND_OFF_ITERATES,
+                increment_norms[-1],
+            )
+        if at_floor or (
             residual_norms[-1] <= options.residual_tolerance
             and increment_norms[-1] <= options.increment_tolerance
         ):
