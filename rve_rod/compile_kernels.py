@@ -4,10 +4,10 @@ numba compiles a kernel at its first call and keeps the machine code in `__pycac
 its module (`@njit(cache=True)`), so a new installation pays for the compilation in its first
 run: about 20 s of CPU for the 36 kernels (the clearance search's 5 about 6 s, the rod's and
 the contact's about 14 s; docs/benchmarks.md), in the first geometry and meso stages of
-`knitmech run`. `make bootstrap` (scripts/bootstrap.sh) runs this module after installing the
-project, as a package with C extensions compiles them when it is installed, so that the first
-run starts with every kernel compiled; numba recompiles a kernel by itself when its source
-changes.
+`knitmech run`. `make bootstrap` (scripts/bootstrap.sh) runs this module from the source tree
+beside pip's install of the project, as a package with C extensions compiles them when it is
+installed, so that the first run starts with every kernel compiled; numba recompiles a kernel
+by itself when its source changes.
 
 The compilation is driven by what the package does with the kernels, not by hand-written
 signatures: the loop of cotton 20s/2 at stitch 5.5 (the clearance search) and a three-step
