@@ -27,6 +27,7 @@ from rve_rod.pattern.chart import JERSEY
 from rve_rod.presets import Fabric
 from rve_rod.rve.cell import CellSettings, CellState, LoopCell
 from rve_rod.rve.load_cases import LoadCase
+from rve_rod.rve.moment import n_mm_per_mm_to_gf_cm_per_cm
 from rve_rod.rve.yarn import YarnModel, YarnSettings, yarn_model
 from rve_rod.stepping import SteppingOptions
 from rve_rod.stress_measures import green_lagrange, second_piola_kirchhoff, voigt
@@ -90,6 +91,12 @@ class RveStep:
             the face normal to axis b (c for b = 1, w for b = 2).
         force_n: the reaction along the load direction, sum_ab D_ab reaction_ab (N).
         force_gf_per_cm: P : D, the force per width along the load direction (gf/cm).
+        bending_moment: (2,) the cell's bending moments per width M_11 (on the cut normal to
+            the courses) and M_22 (normal to the wales), averaged over the cut positions,
+            positive when the force on the cut acts above the mid-plane: held flat, a free
+            edge normal to that axis would curl towards +z, the technical face (N mm / mm;
+            `rve_rod.rve.moment`, docs/rve.md).
+        bending_moment_gf_cm_per_cm: (2,) the same in gf cm / cm.
         lateral_strain: F_aa - 1 of the free normal component (uniaxial cases), else None.
         newton_iterations: Newton iterations of this step (all substeps and failed tries;
             line-search trials count as iterations, as does a residual evaluated alone at an
@@ -113,6 +120,8 @@ class RveStep:
     reaction: np.ndarray
     force_n: float
     force_gf_per_cm: float
+    bending_moment: np.ndarray
+    bending_moment_gf_cm_per_cm: np.ndarray
     lateral_strain: float | None
     newton_iterations: int
     substeps: int
@@ -253,6 +262,8 @@ class RveResult:
             "first_piola": self.series("first_piola").tolist(),
             "second_piola": self.series("second_piola").tolist(),
             "stress_parts": self.series("stress_parts").tolist(),
+            "bending_moment": self.series("bending_moment").tolist(),
+            "bending_moment_gf_cm_per_cm": self.series("bending_moment_gf_cm_per_cm").tolist(),
             "reaction_n": self.series("reaction").tolist(),
             "support_reaction": self.series("support_reaction").tolist(),
             "rest_stress": self.rest_stress.tolist(),
@@ -370,6 +381,8 @@ def _step(case: LoadCase, lattice: np.ndarray, snapshot: _Snapshot, **counts) ->
         reaction=reaction,
         force_n=float(np.sum(direction * reaction)),
         force_gf_per_cm=float(n_per_mm_to_gf_per_cm(np.sum(direction * P))),
+        bending_moment=derived.bending.moment,
+        bending_moment_gf_cm_per_cm=n_mm_per_mm_to_gf_cm_per_cm(derived.bending.moment),
         lateral_strain=lateral,
         active_contacts=contacts.active_contacts,
         sliding_contacts=contacts.sliding,
