@@ -139,7 +139,7 @@ def patterns():
     """M of the cotton 5.5 cells (balanced level, friction) at 10 % uniaxial, both ways."""
     preset = load_preset("cotton-20s2", 5.5)
     moments = {}
-    for pattern in ("jersey", "reverse-jersey", "garter", "rib1x1"):
+    for pattern in ("jersey", "reverse-jersey", "garter", "rib1x1", "seed"):
         knit = dataclasses.replace(preset.knit, pattern=pattern)
         fabric = dataclasses.replace(preset, knit=knit)
         for name in ("uniaxial-course", "uniaxial-wale"):
@@ -160,10 +160,11 @@ def test_jersey_curls_as_single_jersey_does_and_purl_the_other_way(patterns, nam
 
 
 @pytest.mark.parametrize("name", ["uniaxial-course", "uniaxial-wale"])
-def test_garter_and_rib_carry_next_to_no_moment(patterns, name):
+def test_garter_rib_and_seed_carry_next_to_no_moment(patterns, name):
     """Garter maps onto itself under z -> -z with a shift: zero to solver tolerance; 1x1 rib
-    too, up to its cell's mirror asymmetry at 36 control points (docs/patterns.md: rib's
-    orthotropy to 0.5-3 %), under 5 % of jersey's."""
+    and seed too, up to their cells' mirror asymmetry at 36 control points (docs/patterns.md:
+    their orthotropy to 0.5-3 %), under 5 % of jersey's."""
     jersey = abs(patterns["jersey", name]).max()
     assert abs(patterns["garter", name]).max() < 1e-6 * jersey
     assert abs(patterns["rib1x1", name]).max() < 0.05 * jersey
+    assert abs(patterns["seed", name]).max() < 0.05 * jersey
