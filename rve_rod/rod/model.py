@@ -45,6 +45,7 @@ __all__ = [
     "RodModel",
     "RodPatch",
     "SectionForces",
+    "SectionPoints",
 ]
 
 logger = logging.getLogger(__name__)
@@ -167,6 +168,22 @@ class SectionForces(NamedTuple):
 
     force: np.ndarray
     moment: np.ndarray
+
+
+class SectionPoints(NamedTuple):
+    """Points of one patch where `RodModel.section_forces` evaluates the rod's n and m.
+
+    Attributes:
+        patch: the patch.
+        first: (m,) index within the patch of the first of the p+1 control points acting.
+        basis: (3, p+1, m) their basis values and first and second u-derivatives.
+        reference: (14, m) the reference data there, as built (`_kernels` module docstring).
+    """
+
+    patch: int
+    first: np.ndarray
+    basis: np.ndarray
+    reference: np.ndarray
 
 
 class Evaluation(NamedTuple):
@@ -378,42 +395,44 @@ class RodModel:
         knots = self.patches[patch].centreline.knots
         return quaternion.rotation_matrix(BSplineCurve(self.degree, knots, controls)(parameters))
 
-    def section_forces(
-        self, state: np.ndarray, patch: int, parameters: np.ndarray
-    ) -> SectionForces:
-        """Internal force n (3, m) (N) and moment m (3, m) (N mm) of `patch` at any
-        `parameters` (m,), spatial: the constitutive law of the collocation points
-        (`_kernels.collocation_equations`) at other points, with the natural shape as set
-        (`set_natural_curvature`, `set_prestrain`). n and m are what the part of the rod
-        beyond u (larger u) exerts on the part before it."""
+    def section_points(self, patch: int, parameters: np.ndarray) -> "SectionPoints":
+        """What `section_forces` needs at `parameters` (m,) of `patch` that does not change
+        with the state: the basis functions and the reference data there."""
         parameters = np.atleast_1d(np.asarray(parameters, dtype=float))
         curve = self.patches[patch].centreline
         basis = basis_functions(curve.knots, self.degree, parameters, derivatives=2)
-        reference = self._reference_data(patch, parameters)
+        return SectionPoints(
+            patch,
+            (basis.spans - self.degree).astype(np.int64),
+            np.ascontiguousarray(np.transpose(basis.values, (0, 2, 1))),
+            self._reference_data(patch, parameters),
+        )
+
+    def section_forces(self, state: np.ndarray, points: "SectionPoints") -> SectionForces:
+        """Internal force n (3, m) (N) and moment m (3, m) (N mm) at any points of a patch
+        (`section_points`), spatial: the constitutive law of the collocation points
+        (`_kernels.collocation_equations`) there, with the natural shape as set
+        (`set_natural_curvature`, `set_prestrain`). n and m are what the part of the rod
+        beyond the point (larger u) exerts on the part before it."""
+        reference = points.reference.copy()
         reference[_CURVATURE_ROWS] *= self._natural_curvature
         reference[_STRETCH_ROWS] /= 1.0 + self._prestrain
-        stiffness = self._stiffness[:, self.layout.points(patch)[:1]]
-        m = parameters.size
+        m = points.first.size
+        stiffness = self._stiffness[:, self.layout.points(points.patch)[:1]]
         out = _kernels.PointEquations(
             np.empty((18, m)),
             np.empty((7, m)),
             np.empty((6, m)),
-            np.zeros((7, 18, m)),
-            np.zeros((6, 18, m)),
+            np.zeros((7, 18, 1)),  # no Jacobian
+            np.zeros((6, 18, 1)),
         )
         control = np.asarray(state, dtype=float)[: DOFS_PER_POINT * self.n_collocation]
-        control = control.reshape(-1, DOFS_PER_POINT)[self.layout.points(patch)].T
+        control = control.reshape(-1, DOFS_PER_POINT)[self.layout.points(points.patch)].T
         _kernels.gather_kinematics(
-            np.ascontiguousarray(control),
-            (basis.spans - self.degree).astype(np.int64),
-            np.ascontiguousarray(np.transpose(basis.values, (0, 2, 1))),
-            out.kinematics,
+            np.ascontiguousarray(control), points.first, points.basis, out.kinematics
         )
         _kernels.collocation_equations(
-            out,
-            np.ascontiguousarray(reference),
-            np.ascontiguousarray(np.repeat(stiffness, m, axis=1)),
-            False,
+            out, reference, np.ascontiguousarray(np.repeat(stiffness, m, axis=1)), False
         )
         return SectionForces(out.section[:3].copy(), out.section[3:].copy())
 

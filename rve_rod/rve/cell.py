@@ -177,7 +177,7 @@ class CellState(NamedTuple):
         regularization: (2, 2) kappa H on the free components and the ties' share of the
             macro stress (N/mm); zero for a single-jersey cell under fixed F.
         bending: the bending moments per width, averaged over the cuts
-            (`rve_rod.rve.moment`).
+            (`rve_rod.rve.moment`); None where not asked for.
     """
 
     deformation: np.ndarray
@@ -185,7 +185,7 @@ class CellState(NamedTuple):
     cut_force: np.ndarray
     support_reaction: np.ndarray
     regularization: np.ndarray
-    bending: BendingMoment
+    bending: BendingMoment | None
 
 
 class LoopCell:
@@ -394,7 +394,7 @@ class LoopCell:
         points = self.model.layout.extra_offset
         state[:points] = squeezed[:points]
         state[self._support_columns] = squeezed[points:]
-        self.rest_stress[...] = rest.evaluate_state(squeezed, 0.0).stress.first_piola
+        self.rest_stress[...] = rest.evaluate_state(squeezed, 0.0, moments=False).stress.first_piola
         self.coupling.anchor_at(state, 0.0)
         return state
 
@@ -415,8 +415,11 @@ class LoopCell:
             force = force + end.force
         return force
 
-    def evaluate_state(self, state: np.ndarray, load_factor: float) -> CellState:
-        """Macro F, P (with its parts), cut force and support reaction of a state."""
+    def evaluate_state(
+        self, state: np.ndarray, load_factor: float, moments: bool = True
+    ) -> CellState:
+        """Macro F, P (with its parts), cut force and support reaction of a state, and its
+        bending moments unless `moments` is False."""
         force = self.cut_force(state)
         stress = macro_stress(self.coupling, force, state, load_factor)
         stress = stress._replace(first_piola=stress.first_piola - self.rest_stress)
@@ -431,5 +434,5 @@ class LoopCell:
             cut_force=force,
             support_reaction=np.array(state[self._support_columns]),
             regularization=regularization,
-            bending=self.moments.mean(state, load_factor),
+            bending=self.moments.mean(state, load_factor) if moments else None,
         )

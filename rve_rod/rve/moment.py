@@ -45,9 +45,11 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 import scipy.optimize
+import scipy.sparse
 
 from rve_rod.errors import InputError
 from rve_rod.geometry.bspline import BSplineCurve, basis_matrix
+from rve_rod.rod.model import SectionPoints
 from rve_rod.units import GRAM_FORCE
 
 if TYPE_CHECKING:
@@ -59,7 +61,7 @@ __all__ = [
     "n_mm_per_mm_to_gf_cm_per_cm",
 ]
 
-GAUSS_POINTS = 8
+GAUSS_POINTS = 4
 """Gauss points per knot span where the contact loads are integrated along the slave yarn."""
 
 SAMPLES_PER_SPAN = 8
@@ -140,15 +142,24 @@ class _Deformed(NamedTuple):
     master: list  # per patch: (c, 3) the contacts' master points, images included (mm)
 
 
+class _PatchPoints(NamedTuple):
+    """The Gauss points of one patch and what does not change there with the state."""
+
+    quadrature: _Quadrature  # with the cardinal functions (G, n)
+    values: scipy.sparse.csr_matrix  # (G, n) basis functions at the Gauss points
+    slopes: scipy.sparse.csr_matrix  # (G, n) their u-derivatives
+    section: SectionPoints  # for the rod's n and m there
+
+
 class MomentCuts:
     """The bending moments of the states of one cell (module docstring).
 
     Args:
         cell: the loop cell.
 
-    The Gauss points of every patch and the cardinal functions of its collocation points are
-    made once; `mean` gives the moments of a state averaged over the cut positions (what a
-    run reports), `at_cut` at one cut.
+    The Gauss points of every patch, the basis and reference data there and the cardinal
+    functions of its collocation points are made once; `mean` gives the moments of a state
+    averaged over the cut positions (what a run reports), `at_cut` at one cut.
     """
 
     def __init__(self, cell: "LoopCell"):
@@ -160,10 +171,17 @@ class MomentCuts:
             np.linalg.inv(basis_matrix(curve.knots, curve.degree, curve.greville()).toarray())
             for curve in cell.curves
         ]
-        self._quadratures = [
-            _quadrature(curve, inverse)
-            for curve, inverse in zip(cell.curves, self._inverses, strict=True)
-        ]
+        self._patches = []
+        for k, (curve, inverse) in enumerate(zip(cell.curves, self._inverses, strict=True)):
+            q = _quadrature(curve, inverse)
+            self._patches.append(
+                _PatchPoints(
+                    q,
+                    basis_matrix(curve.knots, curve.degree, q.parameters),
+                    basis_matrix(curve.knots, curve.degree, q.parameters, 1),
+                    cell.model.section_points(k, q.parameters),
+                )
+            )
         self._first = np.cumsum([0] + [curve.n_control_points for curve in cell.curves])
 
     def check_weights(self) -> float:
@@ -172,26 +190,30 @@ class MomentCuts:
         weights = self.cell.coupling.weights
         return max(
             float(
-                np.abs(q.weights @ q.cardinal - weights[first : first + q.cardinal.shape[1]]).max()
+                np.abs(
+                    patch.quadrature.weights @ patch.quadrature.cardinal
+                    - weights[first : first + patch.quadrature.cardinal.shape[1]]
+                ).max()
             )
-            for q, first in zip(self._quadratures, self._first, strict=False)
+            for patch, first in zip(self._patches, self._first, strict=False)
         )
 
     def _deformed(self, state, load_factor, mid_plane) -> _Deformed:
         cell = self.cell
         F = np.eye(3)
         F[:2, :2] = cell.macro.matrix(state, load_factor)[:2, :2]
+        positions = [cell.model.control_points(state, k).positions for k in range(len(cell.curves))]
         curves = [
-            BSplineCurve(curve.degree, curve.knots, cell.model.control_points(state, k).positions)
-            for k, curve in enumerate(cell.curves)
+            BSplineCurve(curve.degree, curve.knots, points)
+            for curve, points in zip(cell.curves, positions, strict=True)
         ]
         if mid_plane is None:
             heights, lengths = [], []
-            for curve, reference, q in zip(curves, cell.curves, self._quadratures, strict=True):
-                derivatives = curve.derivatives(q.parameters, 1)
-                speed = np.linalg.norm(reference(q.parameters, 1), axis=1)
-                heights.append(derivatives[0][:, 2])
-                lengths.append(np.linalg.norm(derivatives[1], axis=1) * q.weights / speed)
+            for patch, points in zip(self._patches, positions, strict=True):
+                q = patch.quadrature
+                heights.append(patch.values @ points[:, 2])
+                speed = np.linalg.norm(patch.slopes @ points, axis=1)
+                lengths.append(speed * q.weights / q.speed)
             mid_plane = float(np.concatenate(heights) @ np.concatenate(lengths))
             mid_plane /= float(np.concatenate(lengths).sum())
         contacts = cell.coupling.result(state, load_factor, tangent=False).contacts
@@ -225,34 +247,46 @@ class MomentCuts:
             mid_plane: z_m (mm); None takes the arc-length mean z of the yarn.
         """
         deformed = self._deformed(state, load_factor, mid_plane)
-        F, height0 = deformed.F, deformed.mid_plane
+        F, inverse = deformed.F, deformed.inverse
+        lines = np.array([F[:, 1] / np.linalg.norm(F[:, 1]), F[:, 0] / np.linalg.norm(F[:, 0])])
         parts = np.zeros((3, 2))
         force = np.zeros((3, 2))
-        for k, curve in enumerate(deformed.curves):
-            q = self._quadratures[k]
-            points, tangents = curve.derivatives(q.parameters, 1)
-            section = self.cell.model.section_forces(state, k, q.parameters)
-            height = points[:, 2] - height0
-            load, master = deformed.load[k], deformed.master[k]
-            density = q.cardinal[:, deformed.slave[k]] * q.weights[:, None]  # (G, c) mm
+        for k, patch in enumerate(self._patches):
+            q = patch.quadrature
+            positions = deformed.curves[k].control_points
+            points, tangents = patch.values @ positions, patch.slopes @ positions
+            section = self.cell.model.section_forces(state, patch.section)
+            height = points[:, 2] - deformed.mid_plane
+            # the rod: every point is passed by the cut for |d xi_b / du| du of X0
+            rate = (tangents[:, :2] @ inverse.T) * (q.weights / q.speed)[:, None]  # (G, 2)
+            lever = np.cross([0.0, 0.0, 1.0], section.force.T)  # e3 x n, (G, 3)
+            parts[0] += np.einsum("gb,g,gb->b", rate, height, lever @ lines.T)
+            parts[1] += np.einsum("gb,gb->b", rate, section.moment.T @ lines.T)
+            force += section.force @ rate
+            # the contacts: across the cut for |Delta| of X0, their lever averaged over it;
+            # Delta = xi_b(master) - xi_b(u) expanded, so that the integrals over u of the
+            # cardinal functions are the sums S of C_i w_g times 1, xi, h, xi h, xi^2
+            slave = deformed.slave[k]
+            if not slave.size:
+                continue
+            xi = points[:, :2] @ inverse.T  # (G, 2)
+            columns = np.column_stack(
+                [np.ones_like(height), xi, height, xi * height[:, None], xi**2]
+            )
+            sums = (patch.quadrature.cardinal.T @ (q.weights[:, None] * columns))[slave]  # (c, 8)
+            load = deformed.load[k]
+            master = deformed.master[k][:, :2] @ inverse.T  # (c, 2)
+            out_of_plane = np.cross([0.0, 0.0, 1.0], load.T) @ lines.T  # (c, 2)
             for b in range(2):
-                line = F[:, 1 - b] / np.linalg.norm(F[:, 1 - b])
-                # the rod: every point counted where a cut passes it, d xi_b / du du of X0
-                rate = tangents[:, :2] @ deformed.inverse[b] * q.weights / q.speed
-                lever = np.cross([0.0, 0.0, 1.0], section.force.T) @ line
-                parts[0, b] += rate @ (height * lever)
-                parts[1, b] += rate @ (section.moment.T @ line)
-                force[:, b] += section.force @ rate
-                # the contacts: across the cut for |Delta| of X0, lever averaged over them
-                delta = (master[:, :2] @ deformed.inverse[b])[None, :] - (
-                    points[:, :2] @ deformed.inverse[b]
-                )[:, None]  # (G, c) reference mm
-                in_plane = np.cross(F[:, b], load.T) @ line
-                out_of_plane = np.cross([0.0, 0.0, 1.0], load.T) @ line
-                torque = delta * height[:, None] * out_of_plane - 0.5 * delta**2 * in_plane
-                parts[2, b] += 0.5 * np.sum(density * torque)
-                force[:, b] += 0.5 * load @ np.sum(density * delta, axis=0)
-        return self._moments(parts / self.area, force / self.area, height0)
+                total, along, lever, both, square = sums[:, [0, 1 + b, 3, 4 + b, 6 + b]].T
+                in_plane = np.cross(F[:, b], load.T) @ lines[b]
+                m = master[:, b]
+                torque = out_of_plane[:, b] * (m * lever - both) - 0.5 * in_plane * (
+                    m**2 * total - 2.0 * m * along + square
+                )
+                parts[2, b] += 0.5 * torque.sum()
+                force[:, b] += 0.5 * load @ (m * total - along)
+        return self._moments(parts / self.area, force / self.area, deformed.mid_plane)
 
     def at_cut(
         self,
@@ -285,7 +319,8 @@ class MomentCuts:
             for k, curve in enumerate(deformed.curves):
                 crossings = _crossings(curve, phase)
                 for u, sign in crossings:
-                    section = cell.model.section_forces(state, k, np.array([u]))
+                    point = cell.model.section_points(k, np.array([u]))
+                    section = cell.model.section_forces(state, point)
                     lever = np.array([0.0, 0.0, curve(np.array([u]))[0, 2] - height0])
                     parts[0, b] += sign * np.cross(lever, section.force[:, 0]) @ line
                     parts[1, b] += sign * section.moment[:, 0] @ line

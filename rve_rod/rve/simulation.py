@@ -96,7 +96,9 @@ class RveStep:
             positive when the force on the cut acts above the mid-plane: held flat, a free
             edge normal to that axis would curl towards +z, the technical face (N mm / mm;
             `rve_rod.rve.moment`, docs/rve.md).
-        bending_moment_gf_cm_per_cm: (2,) the same in gf cm / cm.
+            None in runs that do not compute it (`run_cell(moments=False)`: the surface
+            engine's).
+        bending_moment_gf_cm_per_cm: (2,) the same in gf cm / cm, or None.
         lateral_strain: F_aa - 1 of the free normal component (uniaxial cases), else None.
         newton_iterations: Newton iterations of this step (all substeps and failed tries;
             line-search trials count as iterations, as does a residual evaluated alone at an
@@ -120,8 +122,8 @@ class RveStep:
     reaction: np.ndarray
     force_n: float
     force_gf_per_cm: float
-    bending_moment: np.ndarray
-    bending_moment_gf_cm_per_cm: np.ndarray
+    bending_moment: np.ndarray | None
+    bending_moment_gf_cm_per_cm: np.ndarray | None
     lateral_strain: float | None
     newton_iterations: int
     substeps: int
@@ -294,8 +296,9 @@ class _Recorder:
     `admissible`), and at every converged output state takes its outputs (before the commit
     changes the friction anchors) and its wall time."""
 
-    def __init__(self, cell: LoopCell, targets: np.ndarray):
+    def __init__(self, cell: LoopCell, targets: np.ndarray, moments: bool = True):
         self.cell = cell
+        self.moments = moments
         self.problem = cell.problem()
         self.targets = list(targets)
         self.evaluations = 0
@@ -329,7 +332,7 @@ class _Recorder:
             _Snapshot(
                 state=np.array(state, copy=True),
                 load_factor=float(load_factor),
-                derived=self.cell.evaluate_state(state, load_factor),
+                derived=self.cell.evaluate_state(state, load_factor, self.moments),
                 contacts=contacts,
                 evaluations=self.evaluations,
                 converged=self.converged,
@@ -381,8 +384,10 @@ def _step(case: LoadCase, lattice: np.ndarray, snapshot: _Snapshot, **counts) ->
         reaction=reaction,
         force_n=float(np.sum(direction * reaction)),
         force_gf_per_cm=float(n_per_mm_to_gf_per_cm(np.sum(direction * P))),
-        bending_moment=derived.bending.moment,
-        bending_moment_gf_cm_per_cm=n_mm_per_mm_to_gf_cm_per_cm(derived.bending.moment),
+        bending_moment=None if derived.bending is None else derived.bending.moment,
+        bending_moment_gf_cm_per_cm=(
+            None if derived.bending is None else n_mm_per_mm_to_gf_cm_per_cm(derived.bending.moment)
+        ),
         lateral_strain=lateral,
         active_contacts=contacts.active_contacts,
         sliding_contacts=contacts.sliding,
@@ -402,6 +407,7 @@ def run_cell(
     *,
     on_step: Callable[[RveStep], None] | None = None,
     started: float | None = None,
+    moments: bool = True,
 ) -> RveResult:
     """Follow the cell's load case (module docstring).
 
@@ -411,6 +417,8 @@ def run_cell(
         settings: the settings the cell was built with, and the solver's.
         on_step: called with every converged output state (progress reports).
         started: perf_counter() time the run started (model building included); now if None.
+        moments: compute every state's bending moments (`RveStep.bending_moment`); False
+            leaves them None (the surface engine, which needs F and P alone).
 
     Raises:
         ConvergenceError: the path could not be continued; `history` is the RveResult of the
@@ -420,7 +428,7 @@ def run_cell(
     case = cell.case
     lattice = cell.coupling.lattice
     targets = case.load_factors()[1:]
-    recorder = _Recorder(cell, targets)
+    recorder = _Recorder(cell, targets, moments)
     steps: list[RveStep] = []
     states: list[np.ndarray] = []
 
@@ -526,6 +534,7 @@ def simulate(
     *,
     curves: list[BSplineCurve] | PeriodicYarns | None = None,
     on_step: Callable[[RveStep], None] | None = None,
+    moments: bool = True,
 ) -> RveResult:
     """Run `case` on the loop cell of `fabric` (geometry, cell, load path).
 
@@ -536,6 +545,7 @@ def simulate(
         curves: the loop's 4 quarter curves (or a pattern cell's yarns); None builds them
             from the fabric (`loop_curves`).
         on_step: called with every converged output state.
+        moments: compute every state's bending moments (`run_cell`).
 
     Raises:
         ConvergenceError: with the RveResult of the converged states as `history`.
@@ -543,4 +553,4 @@ def simulate(
     started = time.perf_counter()
     curves = loop_curves(fabric) if curves is None else curves
     cell = build_cell(curves, fabric, case, settings)
-    return run_cell(cell, fabric, settings, on_step=on_step, started=started)
+    return run_cell(cell, fabric, settings, on_step=on_step, started=started, moments=moments)

@@ -104,7 +104,8 @@ def test_the_cell_at_rest_carries_no_moment(jersey):
     cell, _ = jersey
     rest = cell.moments.mean(cell.reference_state(), 0.0)
     assert np.abs(rest.moment).max() < 1e-15
-    assert cell.moments.check_weights() < 1e-12  # the contacts spread as the macro stress has them
+    # the contacts are spread as the macro stress has them (its weights: 8 Gauss points a span)
+    assert cell.moments.check_weights() < 1e-8 * cell.coupling.weights.max()
 
 
 def test_the_moment_on_the_cuts_moves_with_the_transverse_force_and_averages_to_the_mean(jersey):
