@@ -37,7 +37,8 @@ def main() -> None:
         for name in ("uniaxial-course", "uniaxial-wale"):
             started = time.perf_counter()
             try:
-                result, note = simulate(fabric, load_case(name, 0.2, 5), settings), ""
+                case = load_case(name, 0.2, 5)
+                result, note = simulate(fabric, case, settings, moments=True), ""
             except ConvergenceError as error:
                 result, note = error.history, " (stopped)"
             cells = []

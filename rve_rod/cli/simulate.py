@@ -99,7 +99,7 @@ def run_simulate(args: argparse.Namespace) -> int:
         ),
     )
     try:
-        result = simulate(fabric, case, settings, on_step=_progress)
+        result = simulate(fabric, case, settings, on_step=_progress, moments=True)
     except ConvergenceError as error:
         if isinstance(error.history, RveResult):
             _write(error.history, args)

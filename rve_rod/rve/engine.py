@@ -94,7 +94,7 @@ class RodRve:
         """Run the case's load path; a path that stops early raises ConvergenceError whose
         history is the RveRun of the converged states (complete=False)."""
         try:
-            result = simulate(case.fabric, path_case(case.load), self.settings, moments=False)
+            result = simulate(case.fabric, path_case(case.load), self.settings)
         except ConvergenceError as error:
             raise ConvergenceError(str(error), history=error.history.to_rve_run()) from error
         return result.to_rve_run()

@@ -96,8 +96,8 @@ class RveStep:
             positive when the force on the cut acts above the mid-plane: held flat, a free
             edge normal to that axis would curl towards +z, the technical face (N mm / mm;
             `rve_rod.rve.moment`, docs/rve.md).
-            None in runs that do not compute it (`run_cell(moments=False)`: the surface
-            engine's).
+            None in runs that were not asked for it (`run_cell(moments=True)`; the CLI's
+            runs are).
         bending_moment_gf_cm_per_cm: (2,) the same in gf cm / cm, or None.
         lateral_strain: F_aa - 1 of the free normal component (uniaxial cases), else None.
         newton_iterations: Newton iterations of this step (all substeps and failed tries;
@@ -296,7 +296,7 @@ class _Recorder:
     `admissible`), and at every converged output state takes its outputs (before the commit
     changes the friction anchors) and its wall time."""
 
-    def __init__(self, cell: LoopCell, targets: np.ndarray, moments: bool = True):
+    def __init__(self, cell: LoopCell, targets: np.ndarray, moments: bool):
         self.cell = cell
         self.moments = moments
         self.problem = cell.problem()
@@ -407,7 +407,7 @@ def run_cell(
     *,
     on_step: Callable[[RveStep], None] | None = None,
     started: float | None = None,
-    moments: bool = True,
+    moments: bool = False,
 ) -> RveResult:
     """Follow the cell's load case (module docstring).
 
@@ -417,8 +417,8 @@ def run_cell(
         settings: the settings the cell was built with, and the solver's.
         on_step: called with every converged output state (progress reports).
         started: perf_counter() time the run started (model building included); now if None.
-        moments: compute every state's bending moments (`RveStep.bending_moment`); False
-            leaves them None (the surface engine, which needs F and P alone).
+        moments: also compute every state's bending moments (`RveStep.bending_moment`,
+            2-9 ms a state: docs/benchmarks.md); False leaves them None.
 
     Raises:
         ConvergenceError: the path could not be continued; `history` is the RveResult of the
@@ -534,7 +534,7 @@ def simulate(
     *,
     curves: list[BSplineCurve] | PeriodicYarns | None = None,
     on_step: Callable[[RveStep], None] | None = None,
-    moments: bool = True,
+    moments: bool = False,
 ) -> RveResult:
     """Run `case` on the loop cell of `fabric` (geometry, cell, load path).
 

@@ -50,7 +50,8 @@ def test_rib_and_garter_runs_are_pinned():
 def test_jersey_bending_moments_are_pinned():
     measured = {}
     for name, label in (("uniaxial-course", "course"), ("uniaxial-wale", "wale")):
-        result = simulate(COTTON, load_case(name, 0.2, 5), fabric_settings(COTTON, 36))
+        settings = fabric_settings(COTTON, 36)
+        result = simulate(COTTON, load_case(name, 0.2, 5), settings, moments=True)
         assert result.complete
         moments = result.series("bending_moment_gf_cm_per_cm")
         for step, percent in ((2, 10), (4, 20)):

@@ -95,9 +95,7 @@ def test_surface_engine_runs_a_path_and_reports_incomplete_ones(monkeypatch):
     monkeypatch.setattr(
         engine,
         "simulate",
-        lambda fabric, case, settings, **options: simulate(
-            fabric, case, settings, curves=CURVES, **options
-        ),
+        lambda fabric, case, settings: simulate(fabric, case, settings, curves=CURVES),
     )
     rve = engine.RodRve(COARSE)
     path = LoadPath("biaxial", 45.0, 0.1, 2)

@@ -104,8 +104,9 @@ def test_the_cell_at_rest_carries_no_moment(jersey):
     cell, _ = jersey
     rest = cell.moments.mean(cell.reference_state(), 0.0)
     assert np.abs(rest.moment).max() < 1e-15
-    # the contacts are spread as the macro stress has them (its weights: 8 Gauss points a span)
-    assert cell.moments.check_weights() < 1e-8 * cell.coupling.weights.max()
+    # the contacts are spread as the macro stress has them (its weights by 8 Gauss points a
+    # span, here 4: the same to 1e-6)
+    assert cell.moments.check_weights() < 1e-6 * cell.coupling.weights.max()
 
 
 def test_the_moment_on_the_cuts_moves_with_the_transverse_force_and_averages_to_the_mean(jersey):
@@ -144,7 +145,8 @@ def patterns():
         knit = dataclasses.replace(preset.knit, pattern=pattern)
         fabric = dataclasses.replace(preset, knit=knit)
         for name in ("uniaxial-course", "uniaxial-wale"):
-            result = simulate(fabric, load_case(name, 0.1, 2), fabric_settings(fabric, 36))
+            settings = fabric_settings(fabric, 36)
+            result = simulate(fabric, load_case(name, 0.1, 2), settings, moments=True)
             moments[pattern, name] = result.steps[-1].bending_moment
     return moments
 
