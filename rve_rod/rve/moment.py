@@ -32,12 +32,21 @@ with M_bb > 0 carries more tension on its +z side; a free edge normal to e_b rel
 curling towards +z (the fabric's technical face, `rve_rod.geometry.pattern_cell`), M_bb < 0
 towards -z (the back).
 
-Why the moment does not depend on X0: the slab between two parallel cuts is in equilibrium,
-so the moments on them differ by the transverse force V across the cut times their distance,
-and V vanishes where the cell's out-of-plane forces balance (up to the two-pass contact
-imbalance the point support carries, docs/rve.md). The rod's collocation equations hold at
-the collocation points; between them n, m and the interpolated loads balance to the
-discretization error, so the moment moves with X0 by that much (tested).
+The moment on one cut moves with X0: the slab between two parallel cuts is in equilibrium,
+so dM/dX0 = V, the transverse force across the cut, which would vanish if the out-of-plane
+contact forces balanced; the two-pass contact's do not (the point support carries their sum,
+docs/rve.md), and V is of the order of 5 % of the in-plane force. The cell's moment is
+therefore the mean over the cut positions X0 in one period (`MomentCuts.mean`), in which each
+point of the yarn is passed by the cut for |d xi_b / du| du of X0 and a contact pair lies
+across it for |Delta| of X0 (Delta = xi_b(master) - xi_b(slave point)), its lever averaged:
+
+    m_b . t_b = (1 / A0) [ int (d xi_b / du) ((z - z_m) e3 x n + m) . t_b du
+        + 1/2 sum_k int C_k (Delta_k (z - z_m) e3 x f_k - Delta_k^2 / 2 F e_b x f_k) . t_b ds ]
+
+and the same integral with n and Delta_k f_k is the force across the cut, whose in-plane part
+is the macro stress P[:, b] again and whose transverse part averages to zero (tested). The
+rod's collocation equations hold at the collocation points; between them n, m and the
+interpolated loads balance to the discretization error.
 """
 
 import fractions
@@ -240,7 +249,7 @@ class MomentCuts:
         self, state: np.ndarray, load_factor: float, mid_plane: float | None = None
     ) -> BendingMoment:
         """The moments of a state averaged over the positions X0 of the cuts (the cell's
-        bending moment, what a run reports; module docstring, "The mean over the cuts").
+        bending moment, what a run reports; module docstring).
 
         Args:
             state: the cell's state; load_factor: its t.
