@@ -394,7 +394,7 @@ class LoopCell:
         points = self.model.layout.extra_offset
         state[:points] = squeezed[:points]
         state[self._support_columns] = squeezed[points:]
-        self.rest_stress[...] = rest.evaluate_state(squeezed, 0.0, moments=False).stress.first_piola
+        self.rest_stress[...] = rest.evaluate_state(squeezed, 0.0).stress.first_piola
         self.coupling.anchor_at(state, 0.0)
         return state
 
@@ -416,10 +416,10 @@ class LoopCell:
         return force
 
     def evaluate_state(
-        self, state: np.ndarray, load_factor: float, moments: bool = True
+        self, state: np.ndarray, load_factor: float, moments: bool = False
     ) -> CellState:
-        """Macro F, P (with its parts), cut force and support reaction of a state, and its
-        bending moments unless `moments` is False."""
+        """Macro F, P (with its parts), cut force and support reaction of a state, and with
+        `moments` its bending moments."""
         force = self.cut_force(state)
         stress = macro_stress(self.coupling, force, state, load_factor)
         stress = stress._replace(first_piola=stress.first_piola - self.rest_stress)

@@ -59,7 +59,6 @@ import scipy.sparse
 from rve_rod.errors import InputError
 from rve_rod.geometry.bspline import BSplineCurve, basis_matrix
 from rve_rod.rod.model import SectionPoints
-from rve_rod.units import GRAM_FORCE
 
 if TYPE_CHECKING:
     from rve_rod.rve.cell import LoopCell
@@ -67,7 +66,6 @@ if TYPE_CHECKING:
 __all__ = [
     "BendingMoment",
     "MomentCuts",
-    "n_mm_per_mm_to_gf_cm_per_cm",
 ]
 
 GAUSS_POINTS = 4
@@ -75,11 +73,6 @@ GAUSS_POINTS = 4
 
 SAMPLES_PER_SPAN = 8
 """Samples per knot span where the crossings of a cut plane are bracketed."""
-
-
-def n_mm_per_mm_to_gf_cm_per_cm(moment_per_width):
-    """A moment per width from N mm / mm to gf cm / cm (1 N mm / mm = 1 N = 102 gf)."""
-    return moment_per_width / GRAM_FORCE
 
 
 class BendingMoment(NamedTuple):
@@ -287,14 +280,14 @@ class MomentCuts:
             master = deformed.master[k][:, :2] @ inverse.T  # (c, 2)
             out_of_plane = np.cross([0.0, 0.0, 1.0], load.T) @ lines.T  # (c, 2)
             for b in range(2):
-                total, along, lever, both, square = sums[:, [0, 1 + b, 3, 4 + b, 6 + b]].T
+                total, along, high, both, square = sums[:, [0, 1 + b, 3, 4 + b, 6 + b]].T
                 in_plane = np.cross(F[:, b], load.T) @ lines[b]
-                m = master[:, b]
-                torque = out_of_plane[:, b] * (m * lever - both) - 0.5 * in_plane * (
-                    m**2 * total - 2.0 * m * along + square
-                )
+                at = master[:, b]
+                torque = out_of_plane[:, b] * (at * high - both) - 0.5 * in_plane * (
+                    at**2 * total - 2.0 * at * along + square
+                )  # int C (Delta h o - Delta^2 / 2 a), Delta = at - xi
                 parts[2, b] += 0.5 * torque.sum()
-                force[:, b] += 0.5 * load @ (m * total - along)
+                force[:, b] += 0.5 * load @ (at * total - along)
         return self._moments(parts / self.area, force / self.area, deformed.mid_plane)
 
     def at_cut(
@@ -368,10 +361,8 @@ def _crossings(curve: BSplineCurve, phase) -> list[tuple[float, float]]:
     """Where `phase` (of points (m, 3)) along `curve` passes an integer, over the curve's
     domain: (parameter, +1 upwards / -1 downwards) each."""
     edges = curve.breakpoints()
-    fractions_ = np.arange(SAMPLES_PER_SPAN) / SAMPLES_PER_SPAN
-    samples = np.append(
-        (edges[:-1, None] + np.diff(edges)[:, None] * fractions_).ravel(), edges[-1]
-    )
+    within = np.arange(SAMPLES_PER_SPAN) / SAMPLES_PER_SPAN
+    samples = np.append((edges[:-1, None] + np.diff(edges)[:, None] * within).ravel(), edges[-1])
     values = phase(curve(samples))
     levels = np.floor(values)
     found = []

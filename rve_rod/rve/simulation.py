@@ -27,11 +27,10 @@ from rve_rod.pattern.chart import JERSEY
 from rve_rod.presets import Fabric
 from rve_rod.rve.cell import CellSettings, CellState, LoopCell
 from rve_rod.rve.load_cases import LoadCase
-from rve_rod.rve.moment import n_mm_per_mm_to_gf_cm_per_cm
 from rve_rod.rve.yarn import YarnModel, YarnSettings, yarn_model
 from rve_rod.stepping import SteppingOptions
 from rve_rod.stress_measures import green_lagrange, second_piola_kirchhoff, voigt
-from rve_rod.units import n_per_mm_to_gf_per_cm
+from rve_rod.units import n_mm_per_mm_to_gf_cm_per_cm, n_per_mm_to_gf_per_cm
 
 __all__ = [
     "RveResult",

@@ -18,6 +18,7 @@ from rve_rod.rve.engine import fabric_settings
 from rve_rod.rve.load_cases import load_case
 from rve_rod.rve.simulation import RveSettings, build_cell, simulate
 from rve_rod.rve.yarn import YarnSettings
+from rve_rod.units import n_mm_per_mm_to_gf_cm_per_cm
 
 W, C = KNIT.wale_width, KNIT.course_height
 SETTINGS = RveSettings(cell=CellSettings(control_points=36), yarn=YarnSettings(friction=False))
@@ -171,3 +172,8 @@ def test_garter_rib_and_seed_carry_next_to_no_moment(patterns, name):
     assert abs(patterns["garter", name]).max() < 1e-6 * jersey
     assert abs(patterns["rib1x1", name]).max() < 0.05 * jersey
     assert abs(patterns["seed", name]).max() < 0.05 * jersey
+
+
+def test_moments_per_width_convert_to_gram_force_centimetres_per_centimetre():
+    """1 N mm / mm = 0.1 N cm / 0.1 cm = 1 N = 101.97 gf: 101.97 gf cm / cm."""
+    assert n_mm_per_mm_to_gf_cm_per_cm(1.0) == pytest.approx(101.9716, rel=1e-6)
