@@ -17,7 +17,7 @@ Who checks what:
     demos/demo_measure_photo.py)
   BALL_BURST: tests/test_knitmech/validation/test_space_examples.py
   PAPER_COMPARISON_FAST: tests/test_rve_rod/regression/test_pinned_paper_comparison.py
-  PATTERNS, PATTERN_RUNS: tests/test_rve_rod/regression/test_pinned_patterns.py
+  PATTERNS, PATTERN_RUNS, PATTERN_MOMENTS: tests/test_rve_rod/regression/test_pinned_patterns.py
 
 Every value was measured on the shared 2-core machine at commit 3172971 (version 0.2.1, loop
 model 0.2) with Debian 12's numpy 1.24, scipy, numba 0.56 and DOLFINx 0.5.2, the way the test
@@ -294,6 +294,16 @@ PATTERN_RUNS = {
     "garter wale force 20 %": Pin(44.485223602330485, SOLVED, PATTERNS_DOC),
     "garter wale Poisson ratio 20 %": Pin(0.5525225346649149, SOLVED, PATTERNS_DOC),
 }
+PATTERN_MOMENTS = {  # gf cm / cm, measured at the commit that added them (the curl branch)
+    "jersey course M11 10 %": Pin(-0.02333945696278407, SOLVED, PATTERNS_DOC),
+    "jersey course M22 10 %": Pin(0.05771726610059249, SOLVED, PATTERNS_DOC),
+    "jersey course M11 20 %": Pin(-0.053537684729451036, SOLVED, PATTERNS_DOC),
+    "jersey course M22 20 %": Pin(0.1428681026241252, SOLVED, PATTERNS_DOC),
+    "jersey wale M11 10 %": Pin(-0.13793062803872455, SOLVED, PATTERNS_DOC),
+    "jersey wale M22 10 %": Pin(0.07159144033100524, SOLVED, PATTERNS_DOC),
+    "jersey wale M11 20 %": Pin(-0.3669040521131767, SOLVED, PATTERNS_DOC),
+    "jersey wale M22 20 %": Pin(0.1814166932061109, SOLVED, PATTERNS_DOC),
+}
 
 TABLES = {
     "RVE_FAST": RVE_FAST,
@@ -311,6 +321,7 @@ TABLES = {
     "DESIGN_FAST": DESIGN_FAST,
     "PATTERNS": PATTERNS,
     "PATTERN_RUNS": PATTERN_RUNS,
+    "PATTERN_MOMENTS": PATTERN_MOMENTS,
 }
 
 

@@ -99,7 +99,7 @@ def run_simulate(args: argparse.Namespace) -> int:
         ),
     )
     try:
-        result = simulate(fabric, case, settings, on_step=_progress)
+        result = simulate(fabric, case, settings, on_step=_progress, moments=True)
     except ConvergenceError as error:
         if isinstance(error.history, RveResult):
             _write(error.history, args)
@@ -147,12 +147,16 @@ def _report(result: RveResult) -> None:
         f"{yarn.law.exponent:.3g}, {result.settings.cell.control_points} control points per "
         f"quarter loop ({result.curve.n_control_points} on the periodic curve)"
     )
-    print(f"  {'strain %':>9}{'force gf/cm':>13}{'force N':>11}{'lateral %':>11}{'iter':>6}")
+    print(
+        f"  {'strain %':>9}{'force gf/cm':>13}{'force N':>11}{'lateral %':>11}"
+        f"{'M11 gf cm/cm':>14}{'M22 gf cm/cm':>14}{'iter':>6}"
+    )
     for step in result.steps:
         lateral = "" if step.lateral_strain is None else f"{100 * step.lateral_strain:.3f}"
+        moment = step.bending_moment_gf_cm_per_cm
         print(
             f"  {100 * step.strain:9.3f}{step.force_gf_per_cm:13.5g}{step.force_n:11.4g}"
-            f"{lateral:>11}{step.newton_iterations:6d}"
+            f"{lateral:>11}{moment[0]:14.4g}{moment[1]:14.4g}{step.newton_iterations:6d}"
         )
     if result.poisson_ratio is not None:
         print(f"  Poisson ratio {result.poisson_ratio:.4g} at the last state")

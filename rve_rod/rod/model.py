@@ -45,6 +45,7 @@ __all__ = [
     "RodModel",
     "RodPatch",
     "SectionForces",
+    "SectionPoints",
 ]
 
 logger = logging.getLogger(__name__)
@@ -169,6 +170,22 @@ class SectionForces(NamedTuple):
     moment: np.ndarray
 
 
+class SectionPoints(NamedTuple):
+    """Points of one patch where `RodModel.section_forces` evaluates the rod's n and m.
+
+    Attributes:
+        patch: the patch.
+        first: (m,) index within the patch of the first of the p+1 control points acting.
+        basis: (3, p+1, m) their basis values and first and second u-derivatives.
+        reference: (14, m) the reference data there, as built (`_kernels` module docstring).
+    """
+
+    patch: int
+    first: np.ndarray
+    basis: np.ndarray
+    reference: np.ndarray
+
+
 class Evaluation(NamedTuple):
     """The model evaluated at one state and load factor.
 
@@ -268,6 +285,8 @@ class RodModel:
         )
         self._curvature = self._reference[_CURVATURE_ROWS].copy()
         self._stretch = self._reference[_STRETCH_ROWS].copy()
+        self._natural_curvature = 1.0  # set_natural_curvature
+        self._prestrain = 0.0  # set_prestrain
         self._stiffness = np.ascontiguousarray(
             np.concatenate(
                 [
@@ -346,6 +365,7 @@ class RodModel:
         `YarnSettings.natural_curvature`, `benchmarks/relaxed_rod_cell.py`). Lengths and shear
         stay the reference's."""
         self._reference[_CURVATURE_ROWS] = scale * self._curvature
+        self._natural_curvature = float(scale)
         self._evaluated = None  # made with the former natural shape
 
     def set_prestrain(self, prestrain: float) -> None:
@@ -358,6 +378,7 @@ class RodModel:
         if not prestrain > -1.0:
             raise InputError(f"prestrain={prestrain} must exceed -1 (a positive natural length)")
         self._reference[_STRETCH_ROWS] = self._stretch / (1.0 + prestrain)
+        self._prestrain = float(prestrain)
         self._evaluated = None  # made with the former natural length
 
     # -------------------------------------------------------------------- post-processing --
@@ -373,6 +394,47 @@ class RodModel:
         _, controls = self.control_points(state, patch)
         knots = self.patches[patch].centreline.knots
         return quaternion.rotation_matrix(BSplineCurve(self.degree, knots, controls)(parameters))
+
+    def section_points(self, patch: int, parameters: np.ndarray) -> "SectionPoints":
+        """What `section_forces` needs at `parameters` (m,) of `patch` that does not change
+        with the state: the basis functions and the reference data there."""
+        parameters = np.atleast_1d(np.asarray(parameters, dtype=float))
+        curve = self.patches[patch].centreline
+        basis = basis_functions(curve.knots, self.degree, parameters, derivatives=2)
+        return SectionPoints(
+            patch,
+            (basis.spans - self.degree).astype(np.int64),
+            np.ascontiguousarray(np.transpose(basis.values, (0, 2, 1))),
+            self._reference_data(patch, parameters),
+        )
+
+    def section_forces(self, state: np.ndarray, points: "SectionPoints") -> SectionForces:
+        """Internal force n (3, m) (N) and moment m (3, m) (N mm) at any points of a patch
+        (`section_points`), spatial: the constitutive law of the collocation points
+        (`_kernels.collocation_equations`) there, with the natural shape as set
+        (`set_natural_curvature`, `set_prestrain`). n and m are what the part of the rod
+        beyond the point (larger u) exerts on the part before it."""
+        reference = points.reference.copy()
+        reference[_CURVATURE_ROWS] *= self._natural_curvature
+        reference[_STRETCH_ROWS] /= 1.0 + self._prestrain
+        m = points.first.size
+        stiffness = self._stiffness[:, self.layout.points(points.patch)[:1]]
+        out = _kernels.PointEquations(
+            np.empty((18, m)),
+            np.empty((7, m)),
+            np.empty((6, m)),
+            np.zeros((7, 18, 1)),  # no Jacobian
+            np.zeros((6, 18, 1)),
+        )
+        control = np.asarray(state, dtype=float)[: DOFS_PER_POINT * self.n_collocation]
+        control = control.reshape(-1, DOFS_PER_POINT)[self.layout.points(points.patch)].T
+        _kernels.gather_kinematics(
+            np.ascontiguousarray(control), points.first, points.basis, out.kinematics
+        )
+        _kernels.collocation_equations(
+            out, reference, np.ascontiguousarray(np.repeat(stiffness, m, axis=1)), False
+        )
+        return SectionForces(out.section[:3].copy(), out.section[3:].copy())
 
     def centreline_at_collocation(self, state: np.ndarray) -> np.ndarray:
         """Centreline positions at all collocation points, shape (3, M) (mm)."""
@@ -592,9 +654,11 @@ class RodModel:
             basis=np.ascontiguousarray(np.transpose(basis.values, (0, 2, 1))),
         )
 
-    def _reference_data(self, k: int) -> np.ndarray:
+    def _reference_data(self, k: int, u: np.ndarray | None = None) -> np.ndarray:
+        """The reference data (14, m) of patch k at the parameters u (default: its collocation
+        points), as built (`_kernels` module docstring: g0, g0', k0, k0', J, J')."""
         patch = self.patches[k]
-        u = self.collocation[k].parameters
+        u = self.collocation[k].parameters if u is None else u
         r = patch.centreline.derivatives(u, 2)
         q = patch.frame_curve.derivatives(u, 2)
         rot = quaternion.rotation_matrix(q[0])

@@ -49,6 +49,7 @@ down to s at F = I, and the contacts hold the yarn's bending moments.
 """
 
 import dataclasses
+import functools
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
@@ -66,6 +67,7 @@ from rve_rod.rod.layout import DOFS_PER_POINT
 from rve_rod.rve.coupling import ContactCoupling
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase
 from rve_rod.rve.macro import MacroBalance, MacroDeformation, StressParts, macro_stress
+from rve_rod.rve.moment import BendingMoment, MomentCuts
 from rve_rod.rve.ties import YarnTie
 from rve_rod.rve.yarn import YarnModel
 from rve_rod.stepping import SteppingOptions
@@ -174,6 +176,8 @@ class CellState(NamedTuple):
         support_reaction: (4,) support force (3, N) and moment about the period axis (N mm).
         regularization: (2, 2) kappa H on the free components and the ties' share of the
             macro stress (N/mm); zero for a single-jersey cell under fixed F.
+        bending: the bending moments per width, averaged over the cuts
+            (`rve_rod.rve.moment`); None where not asked for.
     """
 
     deformation: np.ndarray
@@ -181,6 +185,7 @@ class CellState(NamedTuple):
     cut_force: np.ndarray
     support_reaction: np.ndarray
     regularization: np.ndarray
+    bending: BendingMoment | None
 
 
 class LoopCell:
@@ -397,6 +402,11 @@ class LoopCell:
         """Control-point positions (n, 3) of the patch (mm)."""
         return self.coupling.positions(state)
 
+    @functools.cached_property
+    def moments(self) -> MomentCuts:
+        """The bending moments of the cell's states (`rve_rod.rve.moment`)."""
+        return MomentCuts(self)
+
     def cut_force(self, state: np.ndarray) -> np.ndarray:
         """The internal force at the cuts summed over the patches, (3,) (N)."""
         ends = [self.model.end_values(state, cut) for cut in self._cuts]
@@ -405,8 +415,11 @@ class LoopCell:
             force = force + end.force
         return force
 
-    def evaluate_state(self, state: np.ndarray, load_factor: float) -> CellState:
-        """Macro F, P (with its parts), cut force and support reaction of a state."""
+    def evaluate_state(
+        self, state: np.ndarray, load_factor: float, moments: bool = False
+    ) -> CellState:
+        """Macro F, P (with its parts), cut force and support reaction of a state, and with
+        `moments` its bending moments."""
         force = self.cut_force(state)
         stress = macro_stress(self.coupling, force, state, load_factor)
         stress = stress._replace(first_piola=stress.first_piola - self.rest_stress)
@@ -421,4 +434,5 @@ class LoopCell:
             cut_force=force,
             support_reaction=np.array(state[self._support_columns]),
             regularization=regularization,
+            bending=self.moments.mean(state, load_factor) if moments else None,
         )

@@ -30,7 +30,7 @@ from rve_rod.rve.load_cases import LoadCase
 from rve_rod.rve.yarn import YarnModel, YarnSettings, yarn_model
 from rve_rod.stepping import SteppingOptions
 from rve_rod.stress_measures import green_lagrange, second_piola_kirchhoff, voigt
-from rve_rod.units import n_per_mm_to_gf_per_cm
+from rve_rod.units import n_mm_per_mm_to_gf_cm_per_cm, n_per_mm_to_gf_per_cm
 
 __all__ = [
     "RveResult",
@@ -90,6 +90,14 @@ class RveStep:
             the face normal to axis b (c for b = 1, w for b = 2).
         force_n: the reaction along the load direction, sum_ab D_ab reaction_ab (N).
         force_gf_per_cm: P : D, the force per width along the load direction (gf/cm).
+        bending_moment: (2,) the cell's bending moments per width M_11 (on the cut normal to
+            the courses) and M_22 (normal to the wales), averaged over the cut positions,
+            positive when the force on the cut acts above the mid-plane: held flat, a free
+            edge normal to that axis would curl towards +z, the technical face (N mm / mm;
+            `rve_rod.rve.moment`, docs/rve.md).
+            None in runs that were not asked for it (`run_cell(moments=True)`; the CLI's
+            runs are).
+        bending_moment_gf_cm_per_cm: (2,) the same in gf cm / cm, or None.
         lateral_strain: F_aa - 1 of the free normal component (uniaxial cases), else None.
         newton_iterations: Newton iterations of this step (all substeps and failed tries;
             line-search trials count as iterations, as does a residual evaluated alone at an
@@ -113,6 +121,8 @@ class RveStep:
     reaction: np.ndarray
     force_n: float
     force_gf_per_cm: float
+    bending_moment: np.ndarray | None
+    bending_moment_gf_cm_per_cm: np.ndarray | None
     lateral_strain: float | None
     newton_iterations: int
     substeps: int
@@ -253,6 +263,8 @@ class RveResult:
             "first_piola": self.series("first_piola").tolist(),
             "second_piola": self.series("second_piola").tolist(),
             "stress_parts": self.series("stress_parts").tolist(),
+            "bending_moment": self.series("bending_moment").tolist(),
+            "bending_moment_gf_cm_per_cm": self.series("bending_moment_gf_cm_per_cm").tolist(),
             "reaction_n": self.series("reaction").tolist(),
             "support_reaction": self.series("support_reaction").tolist(),
             "rest_stress": self.rest_stress.tolist(),
@@ -283,8 +295,9 @@ class _Recorder:
     `admissible`), and at every converged output state takes its outputs (before the commit
     changes the friction anchors) and its wall time."""
 
-    def __init__(self, cell: LoopCell, targets: np.ndarray):
+    def __init__(self, cell: LoopCell, targets: np.ndarray, moments: bool):
         self.cell = cell
+        self.moments = moments
         self.problem = cell.problem()
         self.targets = list(targets)
         self.evaluations = 0
@@ -318,7 +331,7 @@ class _Recorder:
             _Snapshot(
                 state=np.array(state, copy=True),
                 load_factor=float(load_factor),
-                derived=self.cell.evaluate_state(state, load_factor),
+                derived=self.cell.evaluate_state(state, load_factor, self.moments),
                 contacts=contacts,
                 evaluations=self.evaluations,
                 converged=self.converged,
@@ -370,6 +383,10 @@ def _step(case: LoadCase, lattice: np.ndarray, snapshot: _Snapshot, **counts) ->
         reaction=reaction,
         force_n=float(np.sum(direction * reaction)),
         force_gf_per_cm=float(n_per_mm_to_gf_per_cm(np.sum(direction * P))),
+        bending_moment=None if derived.bending is None else derived.bending.moment,
+        bending_moment_gf_cm_per_cm=(
+            None if derived.bending is None else n_mm_per_mm_to_gf_cm_per_cm(derived.bending.moment)
+        ),
         lateral_strain=lateral,
         active_contacts=contacts.active_contacts,
         sliding_contacts=contacts.sliding,
@@ -389,6 +406,7 @@ def run_cell(
     *,
     on_step: Callable[[RveStep], None] | None = None,
     started: float | None = None,
+    moments: bool = False,
 ) -> RveResult:
     """Follow the cell's load case (module docstring).
 
@@ -398,6 +416,8 @@ def run_cell(
         settings: the settings the cell was built with, and the solver's.
         on_step: called with every converged output state (progress reports).
         started: perf_counter() time the run started (model building included); now if None.
+        moments: also compute every state's bending moments (`RveStep.bending_moment`,
+            2-9 ms a state: docs/benchmarks.md); False leaves them None.
 
     Raises:
         ConvergenceError: the path could not be continued; `history` is the RveResult of the
@@ -407,7 +427,7 @@ def run_cell(
     case = cell.case
     lattice = cell.coupling.lattice
     targets = case.load_factors()[1:]
-    recorder = _Recorder(cell, targets)
+    recorder = _Recorder(cell, targets, moments)
     steps: list[RveStep] = []
     states: list[np.ndarray] = []
 
@@ -513,6 +533,7 @@ def simulate(
     *,
     curves: list[BSplineCurve] | PeriodicYarns | None = None,
     on_step: Callable[[RveStep], None] | None = None,
+    moments: bool = False,
 ) -> RveResult:
     """Run `case` on the loop cell of `fabric` (geometry, cell, load path).
 
@@ -523,6 +544,7 @@ def simulate(
         curves: the loop's 4 quarter curves (or a pattern cell's yarns); None builds them
             from the fabric (`loop_curves`).
         on_step: called with every converged output state.
+        moments: compute every state's bending moments (`run_cell`).
 
     Raises:
         ConvergenceError: with the RveResult of the converged states as `history`.
@@ -530,4 +552,4 @@ def simulate(
     started = time.perf_counter()
     curves = loop_curves(fabric) if curves is None else curves
     cell = build_cell(curves, fabric, case, settings)
-    return run_cell(cell, fabric, settings, on_step=on_step, started=started)
+    return run_cell(cell, fabric, settings, on_step=on_step, started=started, moments=moments)

@@ -1,7 +1,8 @@
 """Regression pins of the stitch patterns (tests/pins.py, PATTERNS): the templates' depths and
 yarn per loop at cotton 20s/2 stitch 5.5's w and c, the relaxed jersey cell of stitch 4.5's loop
-length, and the rib's course-wise and the garter's wale-wise RVE at the balanced resolution
-(36 control points, 0-20 % in 5 states, friction; `fabric_settings`)."""
+length, the rib's course-wise and the garter's wale-wise RVE at the balanced resolution
+(36 control points, 0-20 % in 5 states, friction; `fabric_settings`), and the jersey's bending
+moments per width along its uniaxial runs at the same settings (PATTERN_MOMENTS)."""
 
 import dataclasses
 
@@ -44,3 +45,16 @@ def test_rib_and_garter_runs_are_pinned():
         measured[f"{label} force 20 %"] = force[4]
         measured[f"{label} Poisson ratio 20 %"] = result.poisson_ratio
     assert_pinned("PATTERN_RUNS", measured)
+
+
+def test_jersey_bending_moments_are_pinned():
+    measured = {}
+    for name, label in (("uniaxial-course", "course"), ("uniaxial-wale", "wale")):
+        settings = fabric_settings(COTTON, 36)
+        result = simulate(COTTON, load_case(name, 0.2, 5), settings, moments=True)
+        assert result.complete
+        moments = result.series("bending_moment_gf_cm_per_cm")
+        for step, percent in ((2, 10), (4, 20)):
+            measured[f"jersey {label} M11 {percent} %"] = moments[step][0]
+            measured[f"jersey {label} M22 {percent} %"] = moments[step][1]
+    assert_pinned("PATTERN_MOMENTS", measured)

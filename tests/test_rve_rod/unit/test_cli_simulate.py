@@ -61,14 +61,14 @@ def test_report_without_json(capsys):
 
 
 def test_a_run_that_stops_writes_what_converged_and_exits_3(tmp_path, monkeypatch, capsys):
-    def hopeless(fabric, case, settings, on_step):
+    def hopeless(fabric, case, settings, on_step, moments):
         settings = rve_simulation.RveSettings(
             cell=settings.cell,
             yarn=settings.yarn,
             newton=NewtonOptions(max_iterations=2),
             stepping=SteppingOptions(max_cutbacks=1),
         )
-        return rve_simulation.simulate(fabric, case, settings, on_step=on_step)
+        return rve_simulation.simulate(fabric, case, settings, on_step=on_step, moments=moments)
 
     monkeypatch.setattr(cli_simulate, "simulate", hopeless)
     plot = tmp_path / "curve.png"
