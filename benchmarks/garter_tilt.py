@@ -1,0 +1,93 @@
+"""Does garter's template want to tilt its courses, and does the tilt contract it? (issue 28)
+
+A garter fabric is said to contract wale-wise because its knit and purl courses fold like an
+accordion; the template keeps its loops in the plane (docs/patterns.md, "Garter"). Here the
+garter template of `rve_rod.geometry.pattern_cell` at each ratio q = c/w gets a tilt of its
+courses: z += s tau (y - y_i) on the control points of course i (s = +1 for a knit course, -1
+for a purl one, y_i its centre; an affine map, so the B-splines follow it exactly and the cell
+stays periodic), alternating, so that the courses fold about their interlocks. Printed for
+each (q, tau): the yarn length per loop L, the scale-free bending energy E L (E the energy
+per loop for EI = 1, `relaxed.bending_energy`; at r = w/8 the template scales with w, so E L
+compares templates of any one loop length), its change against the flat template, and the
+smallest centreline distance over 2r (`cell_clearance`; 1: no interpenetration). The relaxed
+cell is the least E L: with the tilt, at the least (q, tau), l/c = (L/w) / q.
+
+    .venv/bin/python benchmarks/garter_tilt.py
+
+About a minute on the shared 2-core machine (2026-11-27).
+"""
+
+import math
+
+import numpy as np
+
+from rve_rod.errors import InputError
+from rve_rod.geometry.bspline import BSplineCurve
+from rve_rod.geometry.loop import ADJACENT_ARC_FACTOR
+from rve_rod.geometry.pattern_cell import pattern_geometry
+from rve_rod.geometry.proximity import cell_clearance
+from rve_rod.geometry.relaxed import bending_energy
+from rve_rod.pattern import pattern_chart
+
+WIDTH = 1.2
+"""w (mm): below 8 r0, so that r = w/8 and the template is scale-free."""
+MINIMAL_RADIUS = 0.19
+"""r0 of cotton 20s/2 (mm)."""
+RATIOS = (0.6, 0.8, 1.0, 1.2, 1.4, 1.7, 2.0)
+TILTS = (0.0, 0.3, 0.6, 0.8, 1.0, 1.5)
+
+
+def _length(curve: BSplineCurve, samples: int = 400) -> float:
+    points = curve(np.linspace(0.0, 1.0, samples + 1))
+    return float(np.linalg.norm(np.diff(points, axis=0), axis=1).sum())
+
+
+def tilted(geometry, chart, tilt: float) -> list[tuple[BSplineCurve, ...]]:
+    """The template's yarns with course i tilted by z += s tau (y - i c) (module docstring)."""
+    yarns = []
+    for course, yarn in enumerate(geometry.yarns):
+        side = 1.0 if chart[course % len(chart)][0] == "K" else -1.0
+        curves = []
+        for curve in yarn:
+            control = curve.control_points.copy()
+            control[:, 2] += side * tilt * (control[:, 1] - course * geometry.course_height)
+            curves.append(BSplineCurve(curve.degree, curve.knots, control))
+        yarns.append(tuple(curves))
+    return yarns
+
+
+def main():
+    chart = pattern_chart("garter").rows
+    print("| c/w | tilt tau | L (mm) | E L | change | clearance / 2r |")
+    print("|---:|---:|---:|---:|---:|---:|")
+    best = (math.inf, None)
+    for ratio in RATIOS:
+        try:
+            geometry = pattern_geometry(chart, WIDTH, ratio * WIDTH, MINIMAL_RADIUS)
+        except InputError as error:  # too short a course for the interlock
+            print(f"| {ratio:.1f} | | | | | no template: {error} |")
+            continue
+        radius, loops = geometry.yarn_radius, geometry.cell.n_loops
+        flat = None
+        for tilt in TILTS:
+            yarns = tilted(geometry, chart, tilt)
+            curves = [curve for yarn in yarns for curve in yarn]
+            length = sum(_length(curve) for curve in curves) / loops
+            scaled = bending_energy(curves) / loops * length
+            flat = scaled if flat is None else flat
+            clearance = cell_clearance(yarns, geometry.lattice, ADJACENT_ARC_FACTOR * radius)
+            print(
+                f"| {ratio:.1f} | {tilt:.1f} | {length:.3f} | {scaled:.2f} | "
+                f"{scaled / flat - 1:+.1%} | {clearance.distance / (2 * radius):.3f} |"
+            )
+            if scaled < best[0]:
+                best = (scaled, (ratio, tilt, length / WIDTH / ratio))
+    ratio, tilt, loop_over_height = best[1]
+    print(
+        f"\nleast E L = {best[0]:.2f} at c/w = {ratio}, tau = {tilt}: "
+        f"l/c = {loop_over_height:.2f} (the grid's least; no refinement between its points)"
+    )
+
+
+if __name__ == "__main__":
+    main()
