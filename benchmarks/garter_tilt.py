@@ -12,6 +12,11 @@ compares templates of any one loop length), its change against the flat template
 smallest centreline distance over 2r (`cell_clearance`; 1: no interpenetration). The relaxed
 cell is the least E L: with the tilt, at the least (q, tau), l/c = (L/w) / q.
 
+Then the other fold: each course turned rigidly by theta about its own course line (y, z
+rotated; s as above) and the course spacing shortened to c cos theta, which keeps every
+loop's bending energy and length and contracts the cell by cos theta; printed: the smallest
+centreline distance over 2r, whether the turned courses stay clear of each other.
+
     .venv/bin/python benchmarks/garter_tilt.py
 
 About a minute on the shared 2-core machine (2026-11-27).
@@ -35,6 +40,7 @@ MINIMAL_RADIUS = 0.19
 """r0 of cotton 20s/2 (mm)."""
 RATIOS = (0.6, 0.8, 1.0, 1.2, 1.4, 1.7, 2.0)
 TILTS = (0.0, 0.3, 0.6, 0.8, 1.0, 1.5)
+TURNS = (0.0, 5.0, 10.0, 20.0, 30.0)
 
 
 def _length(curve: BSplineCurve, samples: int = 400) -> float:
@@ -54,6 +60,28 @@ def tilted(geometry, chart, tilt: float) -> list[tuple[BSplineCurve, ...]]:
             curves.append(BSplineCurve(curve.degree, curve.knots, control))
         yarns.append(tuple(curves))
     return yarns
+
+
+def turned(geometry, chart, degrees: float):
+    """The template's yarns with course i turned by theta about its course line and the
+    spacing shortened to c cos theta, and the lattice (module docstring)."""
+    theta = math.radians(degrees)
+    cos, sin = math.cos(theta), math.sin(theta)
+    yarns = []
+    for course, yarn in enumerate(geometry.yarns):
+        side = 1.0 if chart[course % len(chart)][0] == "K" else -1.0
+        centre = course * geometry.course_height
+        curves = []
+        for curve in yarn:
+            control = curve.control_points.copy()
+            y, z = control[:, 1] - centre, control[:, 2].copy()
+            control[:, 1] = centre * cos + y * cos - side * z * sin
+            control[:, 2] = side * y * sin + z * cos
+            curves.append(BSplineCurve(curve.degree, curve.knots, control))
+        yarns.append(tuple(curves))
+    lattice = geometry.lattice.copy()
+    lattice[1, 1] *= cos
+    return yarns, lattice
 
 
 def main():
@@ -87,6 +115,14 @@ def main():
         f"\nleast E L = {best[0]:.2f} at c/w = {ratio}, tau = {tilt}: "
         f"l/c = {loop_over_height:.2f} (the grid's least; no refinement between its points)"
     )
+    print("\n| c/w | turn (degrees) | clearance / 2r |\n|---:|---:|---:|")
+    for ratio in (0.8, 1.0, 1.2):
+        geometry = pattern_geometry(chart, WIDTH, ratio * WIDTH, MINIMAL_RADIUS)
+        for degrees in TURNS:
+            yarns, lattice = turned(geometry, chart, degrees)
+            radius = geometry.yarn_radius
+            clearance = cell_clearance(yarns, lattice, ADJACENT_ARC_FACTOR * radius)
+            print(f"| {ratio:.1f} | {degrees:g} | {clearance.distance / (2 * radius):.3f} |")
 
 
 if __name__ == "__main__":
