@@ -15,7 +15,10 @@ cell is the least E L: with the tilt, at the least (q, tau), l/c = (L/w) / q.
 Then the other fold: each course turned rigidly by theta about its own course line (y, z
 rotated; s as above) and the course spacing shortened to c cos theta, which keeps every
 loop's bending energy and length and contracts the cell by cos theta; printed: the smallest
-centreline distance over 2r, whether the turned courses stay clear of each other.
+centreline distance over 2r, whether the turned courses stay clear of each other; and, at
+c/w = 1, the same with the loops' depth d raised above the template's (the depth is not a
+parameter of `pattern_geometry`, which takes the smallest that clears the flat cell: the
+template's own search object builds the yarns at a given d here).
 
     .venv/bin/python benchmarks/garter_tilt.py
 
@@ -29,10 +32,10 @@ import numpy as np
 from rve_rod.errors import InputError
 from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.geometry.loop import ADJACENT_ARC_FACTOR
-from rve_rod.geometry.pattern_cell import pattern_geometry
+from rve_rod.geometry.pattern_cell import _PatternSearch, pattern_geometry
 from rve_rod.geometry.proximity import cell_clearance
 from rve_rod.geometry.relaxed import bending_energy
-from rve_rod.pattern import pattern_chart
+from rve_rod.pattern import pattern_chart, smallest_cell
 
 WIDTH = 1.2
 """w (mm): below 8 r0, so that r = w/8 and the template is scale-free."""
@@ -41,6 +44,8 @@ MINIMAL_RADIUS = 0.19
 RATIOS = (0.6, 0.8, 1.0, 1.2, 1.4, 1.7, 2.0)
 TILTS = (0.0, 0.3, 0.6, 0.8, 1.0, 1.5)
 TURNS = (0.0, 5.0, 10.0, 20.0, 30.0)
+DEPTHS = (0.3, 0.5, 0.7, 1.0)
+"""Loop depths d (mm) of the turned cell at c/w = 1 (the template's: 0.307 mm)."""
 
 
 def _length(curve: BSplineCurve, samples: int = 400) -> float:
@@ -62,13 +67,13 @@ def tilted(geometry, chart, tilt: float) -> list[tuple[BSplineCurve, ...]]:
     return yarns
 
 
-def turned(geometry, chart, degrees: float):
-    """The template's yarns with course i turned by theta about its course line and the
-    spacing shortened to c cos theta, and the lattice (module docstring)."""
+def turned(geometry, chart, degrees: float, yarns=None):
+    """The template's yarns (or `yarns` of its cell) with course i turned by theta about its
+    course line and the spacing shortened to c cos theta, and the lattice (module docstring)."""
     theta = math.radians(degrees)
     cos, sin = math.cos(theta), math.sin(theta)
-    yarns = []
-    for course, yarn in enumerate(geometry.yarns):
+    turned_yarns = []
+    for course, yarn in enumerate(geometry.yarns if yarns is None else yarns):
         side = 1.0 if chart[course % len(chart)][0] == "K" else -1.0
         centre = course * geometry.course_height
         curves = []
@@ -78,10 +83,10 @@ def turned(geometry, chart, degrees: float):
             control[:, 1] = centre * cos + y * cos - side * z * sin
             control[:, 2] = side * y * sin + z * cos
             curves.append(BSplineCurve(curve.degree, curve.knots, control))
-        yarns.append(tuple(curves))
+        turned_yarns.append(tuple(curves))
     lattice = geometry.lattice.copy()
     lattice[1, 1] *= cos
-    return yarns, lattice
+    return turned_yarns, lattice
 
 
 def main():
@@ -123,6 +128,21 @@ def main():
             radius = geometry.yarn_radius
             clearance = cell_clearance(yarns, lattice, ADJACENT_ARC_FACTOR * radius)
             print(f"| {ratio:.1f} | {degrees:g} | {clearance.distance / (2 * radius):.3f} |")
+    geometry = pattern_geometry(chart, WIDTH, WIDTH, MINIMAL_RADIUS)
+    search = _PatternSearch(
+        smallest_cell(chart),
+        geometry.wale_width,
+        geometry.course_height,
+        geometry.yarn_radius,
+        geometry.shape_parameter,
+    )
+    print("\n| turn (degrees) | depth d (mm) | clearance / 2r |\n|---:|---:|---:|")
+    for degrees in (10.0, 20.0):
+        for depth in DEPTHS:
+            yarns, lattice = turned(geometry, chart, degrees, search.yarns(depth))
+            radius = geometry.yarn_radius
+            clearance = cell_clearance(yarns, lattice, ADJACENT_ARC_FACTOR * radius)
+            print(f"| {degrees:g} | {depth:.1f} | {clearance.distance / (2 * radius):.3f} |")
 
 
 if __name__ == "__main__":
