@@ -12,6 +12,7 @@ classic per-span boxes; larger groups trade a few more span tests in the narrow 
 fewer, larger boxes.
 """
 
+import functools
 from typing import NamedTuple
 
 import numpy as np
@@ -116,13 +117,22 @@ def select_images(
     """
     if lattice is None:
         return np.zeros((1, 2), dtype=np.int64)
-    shifts = np.arange(-max_shift, max_shift + 1)
-    grid = np.stack(np.meshgrid(shifts, shifts, indexing="ij"), axis=-1).reshape(-1, 2)
+    grid = _image_grid(max_shift)
     translations = lattice.shifts(grid) @ deformation_gradient.T
     size = boxes.high.max(axis=0) - boxes.low.min(axis=0) + reach
-    images = grid[np.all(np.abs(translations) <= size, axis=1)]
-    order = np.lexsort((images[:, 1], images[:, 0], np.abs(images).sum(axis=1)))
-    return images[order].astype(np.int64)
+    return grid[np.all(np.abs(translations) <= size, axis=1)]
+
+
+@functools.cache
+def _image_grid(max_shift: int) -> np.ndarray:
+    """The images (i, j), |i|, |j| <= max_shift, shape ((2 max_shift + 1)^2, 2) int64, in the
+    order `select_images` returns them: by |i| + |j|, then i, then j (read-only)."""
+    shifts = np.arange(-max_shift, max_shift + 1)
+    grid = np.stack(np.meshgrid(shifts, shifts, indexing="ij"), axis=-1).reshape(-1, 2)
+    order = np.lexsort((grid[:, 1], grid[:, 0], np.abs(grid).sum(axis=1)))
+    grid = grid[order].astype(np.int64)
+    grid.flags.writeable = False
+    return grid
 
 
 def find_candidates(
