@@ -20,6 +20,7 @@ from rve_rod.geometry.bspline import (
     basis_functions,
     basis_matrix,
     check_knot_vector,
+    collocation_solve,
     find_spans,
     greville_abscissae,
 )
@@ -380,10 +381,11 @@ def _collocation_weights(patches, cp_offset, span_first, span_basis, speed):
     np.add.at(integrals, span_first[:, None] + np.arange(degree + 1), contribution)
     result = []
     for k, patch in enumerate(patches):
-        matrix = basis_matrix(patch.knots, degree, patch.collocation_parameters).toarray()
+        parameters = patch.collocation_parameters
         integral = integrals[cp_offset[k] : cp_offset[k + 1]]
-        if matrix.shape[0] == matrix.shape[1]:  # collocation at as many points as controls
-            result.append(np.linalg.solve(matrix.T, integral))
+        if parameters.size == integral.size:  # collocation at as many points as controls
+            result.append(collocation_solve(patch.knots, degree, parameters, integral, True))
         else:
+            matrix = basis_matrix(patch.knots, degree, parameters).toarray()
             result.append(np.linalg.lstsq(matrix.T, integral, rcond=None)[0])
     return np.concatenate(result)
