@@ -719,9 +719,9 @@ class ContactModel:
         basis[3, anchored] = layout.basis(anchors.span[anchored], anchors.tau[anchored])
         chain = _kernels.SpanChain(first, np.ascontiguousarray(basis.transpose(0, 2, 1)))
         # d load / d F_ab = (d load / d x_m)[:, a] L_b + (d load / d x_a)[:, a] L_a,b.
-        deformation = np.einsum(
-            "iak,kb->ikab", loads.blocks[MASTER][:, :2], shift[:, :2]
-        ) + np.einsum("iak,kb->ikab", loads.blocks[ANCHOR][:, :2], anchors.shift[:, :2])
+        deformation = _outer(loads.blocks[MASTER][:, :2], shift[:, :2]) + _outer(
+            loads.blocks[ANCHOR][:, :2], anchors.shift[:, :2]
+        )
         if t:
             extra = np.einsum(
                 "iat,tb->tiab", -outer[:, :2], self._shifts(terms.image)[:, :2]
@@ -790,6 +790,11 @@ def _as_point_forces(loads: ContactLoads, scale: np.ndarray) -> ContactLoads:
         friction_load=loads.friction_load * scale,
         blocks=loads.blocks * scale,
     )
+
+
+def _outer(blocks: np.ndarray, shifts: np.ndarray) -> np.ndarray:
+    """(3, k, 2, 2) blocks[i, a, k] shifts[k, b] from blocks (3, 2, k) and shifts (k, 2)."""
+    return blocks.transpose(0, 2, 1)[:, :, :, None] * shifts[None, :, None, :]
 
 
 def _sum_per_point(points: np.ndarray, values: np.ndarray, n_points: int) -> np.ndarray:
