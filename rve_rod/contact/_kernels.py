@@ -76,6 +76,64 @@ def box_overlaps(slave_boxes, master_boxes, order, out_slave, out_master):
     return count
 
 
+@record
+class MasterStrands(NamedTuple):
+    """Where the master boxes of the sweep lie along their strands (`apart_pairs`).
+
+    Attributes:
+        strand: (B,) int64 strand key of each box; box b is group b % G in image b // G.
+        shift: (B,) arc shift of each box's image along its strand (mm).
+        arc_start, arc_end: (G,) reference arc interval of each group (mm).
+    """
+
+    strand: np.ndarray
+    shift: np.ndarray
+    arc_start: np.ndarray
+    arc_end: np.ndarray
+
+
+@record
+class PointStrands(NamedTuple):
+    """The collocation points along their strands: arc (m,) coordinate (mm), strand (m,)
+    int64 key."""
+
+    arc: np.ndarray
+    strand: np.ndarray
+
+
+@njit(cache=True)
+def apart_pairs(slave, master, masters, points, exclusion, out):
+    """The (point, master box) pairs of the sweep minus those of a point's own strand whose
+    group lies entirely within the exclusion arc length of it (`broad_phase.find_candidates`).
+
+    Args:
+        slave, master: (k,) int64 pairs of collocation point and master box.
+        masters: `MasterStrands` of the boxes; points: `PointStrands` of the points.
+        exclusion: the exclusion arc length (mm).
+        out: (3, k) int64: the kept pairs' point, group and image, in the pairs' order.
+
+    Returns the number of pairs kept.
+    """
+    n_groups = masters.arc_start.size
+    count = 0
+    for t in range(slave.size):
+        point = slave[t]
+        box = master[t]
+        image = box // n_groups
+        group = box - image * n_groups
+        arc = points.arc[point]
+        along = max(
+            abs(masters.arc_start[group] + masters.shift[box] - arc),
+            abs(masters.arc_end[group] + masters.shift[box] - arc),
+        )
+        if masters.strand[box] != points.strand[point] or along >= exclusion:
+            out[0, count] = point
+            out[1, count] = group
+            out[2, count] = image
+            count += 1
+    return count
+
+
 @njit(cache=True)
 def _span_geometry(coefficients, span, tau, out):
     """C, dC/dtau, d2C/dtau2 of a span polynomial at tau (Horner), into out (3, 3)."""

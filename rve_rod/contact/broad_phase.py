@@ -165,22 +165,26 @@ def find_candidates(
     slave_boxes = np.ascontiguousarray(np.concatenate([slave_points, slave_points]))
     order = np.argsort(master_boxes[0], kind="stable")
     slave, master = overlapping_boxes(slave_boxes, master_boxes, order)
-    image, group = np.divmod(master, n_groups)
 
-    # Strand and arc interval of every master box (group in image), then the exclusion.
+    # Strand and arc shift of every master box (group in image), then the exclusion.
     box_image = np.repeat(np.arange(images.shape[0]), n_groups)
     box_group = np.tile(np.arange(n_groups), images.shape[0])
     box_strand, box_shift = layout.strands(groups.yarn[box_group], images[box_image])
-    arc = layout.point_arc[slave]
-    reach_along = np.maximum(
-        np.abs(groups.arc_start[group] + box_shift[master] - arc),
-        np.abs(groups.arc_end[group] + box_shift[master] - arc),
+    kept = np.empty((3, slave.size), dtype=np.int64)
+    count = _kernels.apart_pairs(
+        slave,
+        master,
+        _kernels.MasterStrands(
+            box_strand, np.asarray(box_shift, dtype=float), groups.arc_start, groups.arc_end
+        ),
+        _kernels.PointStrands(layout.point_arc, np.asarray(slave_strands, dtype=np.int64)),
+        float(exclusion_arc_length),
+        kept,
     )
-    keep = (box_strand[master] != slave_strands[slave]) | (reach_along >= exclusion_arc_length)
     return Candidates(
-        slave=slave[keep],
-        group=group[keep],
-        image=image[keep],
+        slave=kept[0, :count],
+        group=kept[1, :count],
+        image=kept[2, :count],
         box_pairs=int(slave.size),
         all_pairs=int(slave_points.shape[1] * layout.n_spans * images.shape[0]),
     )

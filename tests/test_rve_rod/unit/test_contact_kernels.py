@@ -337,3 +337,31 @@ def test_contact_loads_kernel_matches_numpy(exponent, mu, slip_size):
         np.testing.assert_allclose(actual, reference, rtol=1e-12, atol=1e-14)
     if mu > 0:  # both paths are exercised: stick for small slips, slip for large ones
         assert (1 if slip_size < 1e-3 else 2) in set(out.state)
+
+
+def test_apart_pairs_keeps_exactly_the_pairs_beyond_the_own_strand_exclusion():
+    rng = np.random.default_rng(11)
+    n_groups, n_images, n_points, k = 7, 3, 40, 500
+    boxes = n_groups * n_images
+    slave = rng.integers(0, n_points, k)
+    master = rng.integers(0, boxes, k)
+    masters = _kernels.MasterStrands(
+        strand=rng.integers(0, 3, boxes),
+        shift=rng.choice([-10.0, 0.0, 10.0], boxes),
+        arc_start=np.sort(rng.uniform(0.0, 10.0, n_groups)),
+        arc_end=np.sort(rng.uniform(0.0, 10.0, n_groups)) + 1.0,
+    )
+    points = _kernels.PointStrands(rng.uniform(0.0, 10.0, n_points), rng.integers(0, 3, n_points))
+    exclusion = 2.5
+    kept = np.empty((3, k), dtype=np.int64)
+    count = _kernels.apart_pairs(slave, master, masters, points, exclusion, kept)
+    # NumPy reference: group and image of each box, the reach of its group along the strand
+    image, group = np.divmod(master, n_groups)
+    shift = masters.shift[master]
+    arc = points.arc[slave]
+    along = np.maximum(
+        np.abs(masters.arc_start[group] + shift - arc), np.abs(masters.arc_end[group] + shift - arc)
+    )
+    keep = (masters.strand[master] != points.strand[slave]) | (along >= exclusion)
+    assert 0 < count < k
+    np.testing.assert_array_equal(kept[:, :count], np.stack([slave, group, image])[:, keep])
