@@ -38,7 +38,7 @@ from rve_rod.contact.forces import (
     contact_loads,
     kinematics,
 )
-from rve_rod.contact.friction import FrictionHistory, match_anchors
+from rve_rod.contact.friction import FrictionHistory, match_anchors, sort_anchors
 from rve_rod.contact.law import CompressibleYarnLaw, CoulombFriction
 from rve_rod.contact.layout import (
     ContactLayout,
@@ -403,6 +403,7 @@ class ContactModel:
             point_yarn, np.zeros((point_yarn.size, 2), dtype=np.int64)
         )
         self._history = FrictionHistory.empty()
+        self._sorted_anchors: tuple | None = None  # (history, sort_anchors(history))
         self.anchor_at(reference_positions, np.eye(3))
 
     @property
@@ -536,8 +537,14 @@ class ContactModel:
     def _anchors(self, points, slave_points, deformation, active: _Selection) -> _Anchors:
         """The committed anchors of the active contacts and their slip vectors."""
         history = self._history
+        if self._sorted_anchors is None or self._sorted_anchors[0] is not history:
+            self._sorted_anchors = (history, sort_anchors(history))
         anchor = match_anchors(
-            history, active.slave, active.strand, active.arc, self.exclusion_arc_length
+            self._sorted_anchors[1],
+            active.slave,
+            active.strand,
+            active.arc,
+            self.exclusion_arc_length,
         )
         rows = np.flatnonzero(anchor >= 0)
         anchor = anchor[rows]
