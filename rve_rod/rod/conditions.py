@@ -352,19 +352,17 @@ class Joint(Condition):
     def evaluate(self, context: ConditionContext, load_factor: float) -> list[Block]:
         a, b = context.ends
         rows = context.rows
-        columns, d_position, c_conj = self._constant(context)
+        columns, d_position, c_conj, right_c = self._constant(context)
         blocks = [Block(rows[:3], b.position - a.position, columns, d_position)]
         if self.offset is not None:
             offset = self.offset(context.state, load_factor)
             blocks.append(Block(rows[:3], -offset.value, offset.columns, -offset.derivative))
         # e = vec(conj(q_a) * q_b * conj(c)): linear in q_b and in conj(q_a)
         qb_c = quaternion.multiply(b.quaternion, c_conj)
+        qa_conj = quaternion.conjugate(a.quaternion)
         d_qa = (quaternion.right_matrix(qb_c) @ np.diag([1.0, -1.0, -1.0, -1.0]))[1:]
-        d_qb = (
-            quaternion.left_matrix(quaternion.conjugate(a.quaternion))
-            @ quaternion.right_matrix(c_conj)
-        )[1:]
-        error = quaternion.multiply(quaternion.conjugate(a.quaternion), qb_c)[1:]
+        d_qb = (quaternion.left_matrix(qa_conj) @ right_c)[1:]
+        error = quaternion.multiply(qa_conj, qb_c)[1:]
         blocks.append(
             Block(
                 rows[3:6],
@@ -391,9 +389,10 @@ class Joint(Condition):
         )
         return blocks
 
-    def _constant(self, context: ConditionContext) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _constant(self, context: ConditionContext) -> tuple[np.ndarray, ...]:
         """The state-independent parts of the blocks for the context's model, made at the
-        first call: the columns of both ends, the positions' derivative and conj(c)."""
+        first call: the columns of both ends, the positions' derivative, conj(c) and its
+        right matrix."""
         kept = self.__dict__.get("_kept")
         if kept is not None and kept[0] is context.model:
             return kept[1]
@@ -401,10 +400,12 @@ class Joint(Condition):
         relative = quaternion.multiply(
             quaternion.conjugate(a.reference_quaternion), b.reference_quaternion
         )
+        c_conj = quaternion.conjugate(relative / np.linalg.norm(relative))
         constant = (
             np.concatenate([a.columns, b.columns]),
             np.hstack([-a.d_position, b.d_position]),
-            quaternion.conjugate(relative / np.linalg.norm(relative)),
+            c_conj,
+            quaternion.right_matrix(c_conj),
         )
         object.__setattr__(self, "_kept", (context.model, constant))
         return constant
