@@ -514,7 +514,8 @@ class SpanChain(NamedTuple):
 
 @record
 class CooEntries(NamedTuple):
-    """COO entries: (capacity,) rows, columns (int64), values; preallocated outputs of
+    """COO entries: (capacity,) rows, columns (int32: scipy's index type for matrices of
+    fewer than 2^31 rows and columns, taken without a copy), values; preallocated outputs of
     `block_entries`."""
 
     rows: np.ndarray
@@ -525,8 +526,8 @@ class CooEntries(NamedTuple):
     def empty(cls, capacity: int) -> "CooEntries":
         """Buffers for `capacity` entries."""
         return cls(
-            np.empty(capacity, dtype=np.int64),
-            np.empty(capacity, dtype=np.int64),
+            np.empty(capacity, dtype=np.int32),
+            np.empty(capacity, dtype=np.int32),
             np.empty(capacity),
         )
 

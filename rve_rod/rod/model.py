@@ -442,7 +442,10 @@ class RodModel:
                     entries = derivative.tocoo()
                     rows = self._load_rows[k][entries.row]
                     kept = rows >= 0
-                    load_jacobians.append((rows[kept], entries.col[kept], entries.data[kept]))
+                    if kept.all():  # (no load at an end point: the usual case)
+                        load_jacobians.append((rows, entries.col, entries.data))
+                    else:
+                        load_jacobians.append((rows[kept], entries.col[kept], entries.data[kept]))
         for k in range(2):
             residual[self._load_rows[k][self._load_mask[k]]] += loads[3 * k : 3 * k + 3].ravel()[
                 self._load_mask[k]
@@ -493,7 +496,8 @@ class RodModel:
             matrix = (self._pattern.indptr, self._pattern.indices, data)
             if load_jacobians:
                 rows, columns, values = (
-                    np.concatenate(part) for part in zip(*load_jacobians, strict=True)
+                    part[0] if len(part) == 1 else np.concatenate(part)
+                    for part in zip(*load_jacobians, strict=True)
                 )
                 capacity = data.size + values.size
                 out = (
