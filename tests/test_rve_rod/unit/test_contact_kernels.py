@@ -365,3 +365,28 @@ def test_apart_pairs_keeps_exactly_the_pairs_beyond_the_own_strand_exclusion():
     keep = (masters.strand[master] != points.strand[slave]) | (along >= exclusion)
     assert 0 < count < k
     np.testing.assert_array_equal(kept[:, :count], np.stack([slave, group, image])[:, keep])
+
+
+@pytest.mark.parametrize("degree", [2, 4])
+def test_span_coefficients_and_point_positions_match_numpy_bit_for_bit(degree):
+    rng = np.random.default_rng(degree)
+    n, spans, points = 30, 20, 25
+    positions = rng.normal(size=(n, 7))[:, :3]  # a strided view, as the state's positions
+    control_points = rng.integers(0, n - degree, spans)[:, None] + np.arange(degree + 1)
+    basis = rng.normal(size=(spans, degree + 1, degree + 1))
+    out = np.empty((3, degree + 1, spans))
+    _kernels.span_coefficients(positions, control_points, basis, out)
+    # the same sums in the same order as NumPy's, and einsum's result
+    expected = positions[control_points[:, 0]][:, :, None] * basis[:, 0, None, :]
+    for a in range(1, degree + 1):
+        expected = expected + positions[control_points[:, a]][:, :, None] * basis[:, a, None, :]
+    np.testing.assert_array_equal(out, expected.transpose(1, 2, 0))
+    np.testing.assert_allclose(
+        out, np.einsum("sac,sak->cks", positions[control_points], basis), rtol=1e-14, atol=1e-14
+    )
+    first = rng.integers(0, n - degree, points)
+    point_basis = rng.uniform(size=(points, degree + 1))
+    found = np.empty((3, points))
+    _kernels.point_positions(positions, first, point_basis, found)
+    local = positions[first[:, None] + np.arange(degree + 1)]  # (m, p+1, 3)
+    np.testing.assert_array_equal(found, np.einsum("ma,mac->cm", point_basis, local))
