@@ -117,6 +117,31 @@ def point_positions(positions, first, basis, out):
             out[c, j] = total
 
 
+@njit(cache=True)
+def control_point_boxes(positions, span_first, group_spans, width, out):
+    """Axis-aligned boxes of the control points of groups of spans (`broad_phase.group_boxes`).
+
+    Args:
+        positions: (n, 3) control points (mm).
+        span_first: (S,) int64 the first of each span's `width` control points.
+        group_spans: (2, B) int64 first span and number of spans of each group.
+        width: control points per span (p+1).
+        out: (2, B, 3) the low and the high corner of each group's box (mm).
+    """
+    for g in range(group_spans.shape[1]):
+        first = group_spans[0, g]
+        for c in range(3):
+            low = np.inf
+            high = -np.inf
+            for s in range(first, first + group_spans[1, g]):
+                for a in range(width):
+                    value = positions[span_first[s] + a, c]
+                    low = min(low, value)
+                    high = max(high, value)
+            out[0, g, c] = low
+            out[1, g, c] = high
+
+
 @record
 class MasterStrands(NamedTuple):
     """Where the master boxes of the sweep lie along their strands (`apart_pairs`).

@@ -94,13 +94,9 @@ def group_spans(layout: ContactLayout, spans_per_box: int) -> SpanGroups:
 
 def group_boxes(layout: ContactLayout, groups: SpanGroups, positions: np.ndarray) -> Boxes:
     """Boxes of the span groups from their control points, positions (n, 3) (mm)."""
-    points = layout.span_points(positions)
-    span_low, span_high = points.min(axis=1), points.max(axis=1)
-    first = groups.spans[0]
-    return Boxes(
-        low=np.minimum.reduceat(span_low, first, axis=0),
-        high=np.maximum.reduceat(span_high, first, axis=0),
-    )
+    out = np.empty((2, groups.spans.shape[1], 3))
+    _kernels.control_point_boxes(positions, layout.span_first, groups.spans, layout.degree + 1, out)
+    return Boxes(low=out[0], high=out[1])
 
 
 def select_images(

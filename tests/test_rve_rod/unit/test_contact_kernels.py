@@ -390,3 +390,20 @@ def test_span_coefficients_and_point_positions_match_numpy_bit_for_bit(degree):
     _kernels.point_positions(positions, first, point_basis, found)
     local = positions[first[:, None] + np.arange(degree + 1)]  # (m, p+1, 3)
     np.testing.assert_array_equal(found, np.einsum("ma,mac->cm", point_basis, local))
+
+
+def test_control_point_boxes_bound_exactly_the_groups_control_points():
+    rng = np.random.default_rng(5)
+    degree, spans = 4, 23
+    span_first = np.cumsum(rng.integers(0, 3, spans))  # repeated knots skip control points
+    positions = rng.normal(size=(int(span_first[-1]) + degree + 1, 3))
+    counts = np.array([5, 5, 5, 5, 3])
+    group_spans = np.stack([np.concatenate([[0], np.cumsum(counts)[:-1]]), counts])
+    out = np.empty((2, counts.size, 3))
+    _kernels.control_point_boxes(positions, span_first, group_spans, degree + 1, out)
+    for g, (first, count) in enumerate(group_spans.T):
+        points = positions[
+            (span_first[first : first + count, None] + np.arange(degree + 1)).ravel()
+        ]
+        np.testing.assert_array_equal(out[0, g], points.min(axis=0))
+        np.testing.assert_array_equal(out[1, g], points.max(axis=0))
