@@ -668,7 +668,9 @@ class ContactModel:
     def _span_points(self, points, spans, tau):
         """Curve points (3, k) at local parameters tau of spans, in the cell."""
         basis = self.layout.basis(spans, tau)
-        return np.einsum("ka,kac->ck", basis, self.layout.span_points(points)[spans])
+        out = np.empty((3, spans.size))
+        _kernels.point_positions(points, self.layout.span_first[spans], basis, out)
+        return out
 
     def _trial_history(self, detected: _Selection, active_rows, loads: ContactLoads):
         """Anchors of all detected pairs: offset v - g_e (g_e = 0 where there is no friction)."""
