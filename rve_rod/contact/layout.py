@@ -189,10 +189,6 @@ class ContactLayout:
         """(S, p+1) global index of the control points acting on each span."""
         return self.span_first[:, None] + np.arange(self.degree + 1)[None, :]
 
-    def span_points(self, positions: np.ndarray) -> np.ndarray:
-        """Control points of each span, shape (S, p+1, 3), from positions (n, 3)."""
-        return np.take(positions, self.span_control_points, axis=0)
-
     def coefficients(self, positions: np.ndarray) -> np.ndarray:
         """Power-basis coefficients of every span, (3, p+1, S): C(tau) = sum_k c[:, k] tau^k."""
         out = np.empty((3, self.degree + 1, self.n_spans))
