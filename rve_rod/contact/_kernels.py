@@ -77,6 +77,130 @@ def box_overlaps(slave_boxes, master_boxes, order, out_slave, out_master):
 
 
 @njit(cache=True)
+def span_coefficients(positions, control_points, basis, out):
+    """Power-basis coefficients of the spans (`ContactLayout.coefficients`):
+    out[c, k, s] = sum_a positions[control_points[s, a], c] basis[s, a, k], summed over a in
+    order (as einsum sums them, in a third of its time on these sums of p+1 terms).
+
+    Args:
+        positions: (n, 3) control points (mm).
+        control_points: (S, p+1) int64 the control points of each span.
+        basis: (S, p+1, p+1) the spans' basis functions in the power basis.
+        out: (3, p+1, S) the coefficients (mm).
+    """
+    width = control_points.shape[1]
+    for s in range(control_points.shape[0]):
+        for c in range(3):
+            for k in range(width):
+                total = positions[control_points[s, 0], c] * basis[s, 0, k]
+                for a in range(1, width):
+                    total += positions[control_points[s, a], c] * basis[s, a, k]
+                out[c, k, s] = total
+
+
+@njit(cache=True)
+def point_positions(positions, first, basis, out):
+    """Centreline points out[c, j] = sum_a basis[j, a] positions[first[j] + a, c], summed over
+    a in order (`ContactLayout.collocation_positions`).
+
+    Args:
+        positions: (n, 3) control points (mm).
+        first: (m,) int64 the first of the p+1 control points acting at each point.
+        basis: (m, p+1) their basis values at the point.
+        out: (3, m) the points (mm).
+    """
+    for j in range(first.size):
+        for c in range(3):
+            total = basis[j, 0] * positions[first[j], c]
+            for a in range(1, basis.shape[1]):
+                total += basis[j, a] * positions[first[j] + a, c]
+            out[c, j] = total
+
+
+@njit(cache=True)
+def control_point_boxes(positions, span_first, group_spans, width, out):
+    """Axis-aligned boxes of the control points of groups of spans (`broad_phase.group_boxes`).
+
+    Args:
+        positions: (n, 3) control points (mm).
+        span_first: (S,) int64 the first of each span's `width` control points.
+        group_spans: (2, B) int64 first span and number of spans of each group.
+        width: control points per span (p+1).
+        out: (2, B, 3) the low and the high corner of each group's box (mm).
+    """
+    for g in range(group_spans.shape[1]):
+        first = group_spans[0, g]
+        for c in range(3):
+            low = np.inf
+            high = -np.inf
+            for s in range(first, first + group_spans[1, g]):
+                for a in range(width):
+                    value = positions[span_first[s] + a, c]
+                    low = min(low, value)
+                    high = max(high, value)
+            out[0, g, c] = low
+            out[1, g, c] = high
+
+
+@record
+class MasterStrands(NamedTuple):
+    """Where the master boxes of the sweep lie along their strands (`apart_pairs`).
+
+    Attributes:
+        strand: (B,) int64 strand key of each box; box b is group b % G in image b // G.
+        shift: (B,) arc shift of each box's image along its strand (mm).
+        arc_start, arc_end: (G,) reference arc interval of each group (mm).
+    """
+
+    strand: np.ndarray
+    shift: np.ndarray
+    arc_start: np.ndarray
+    arc_end: np.ndarray
+
+
+@record
+class PointStrands(NamedTuple):
+    """The collocation points along their strands: arc (m,) coordinate (mm), strand (m,)
+    int64 key."""
+
+    arc: np.ndarray
+    strand: np.ndarray
+
+
+@njit(cache=True)
+def apart_pairs(slave, master, masters, points, exclusion, out):
+    """The (point, master box) pairs of the sweep minus those of a point's own strand whose
+    group lies entirely within the exclusion arc length of it (`broad_phase.find_candidates`).
+
+    Args:
+        slave, master: (k,) int64 pairs of collocation point and master box.
+        masters: `MasterStrands` of the boxes; points: `PointStrands` of the points.
+        exclusion: the exclusion arc length (mm).
+        out: (3, k) int64: the kept pairs' point, group and image, in the pairs' order.
+
+    Returns the number of pairs kept.
+    """
+    n_groups = masters.arc_start.size
+    count = 0
+    for t in range(slave.size):
+        point = slave[t]
+        box = master[t]
+        image = box // n_groups
+        group = box - image * n_groups
+        arc = points.arc[point]
+        along = max(
+            abs(masters.arc_start[group] + masters.shift[box] - arc),
+            abs(masters.arc_end[group] + masters.shift[box] - arc),
+        )
+        if masters.strand[box] != points.strand[point] or along >= exclusion:
+            out[0, count] = point
+            out[1, count] = group
+            out[2, count] = image
+            count += 1
+    return count
+
+
+@njit(cache=True)
 def _span_geometry(coefficients, span, tau, out):
     """C, dC/dtau, d2C/dtau2 of a span polynomial at tau (Horner), into out (3, 3)."""
     degree = coefficients.shape[1] - 1
@@ -456,7 +580,8 @@ class SpanChain(NamedTuple):
 
 @record
 class CooEntries(NamedTuple):
-    """COO entries: (capacity,) rows, columns (int64), values; preallocated outputs of
+    """COO entries: (capacity,) rows, columns (int32: scipy's index type for matrices of
+    fewer than 2^31 rows and columns, taken without a copy), values; preallocated outputs of
     `block_entries`."""
 
     rows: np.ndarray
@@ -467,8 +592,8 @@ class CooEntries(NamedTuple):
     def empty(cls, capacity: int) -> "CooEntries":
         """Buffers for `capacity` entries."""
         return cls(
-            np.empty(capacity, dtype=np.int64),
-            np.empty(capacity, dtype=np.int64),
+            np.empty(capacity, dtype=np.int32),
+            np.empty(capacity, dtype=np.int32),
             np.empty(capacity),
         )
 

@@ -12,6 +12,7 @@ classic per-span boxes; larger groups trade a few more span tests in the narrow 
 fewer, larger boxes.
 """
 
+import functools
 from typing import NamedTuple
 
 import numpy as np
@@ -93,13 +94,9 @@ def group_spans(layout: ContactLayout, spans_per_box: int) -> SpanGroups:
 
 def group_boxes(layout: ContactLayout, groups: SpanGroups, positions: np.ndarray) -> Boxes:
     """Boxes of the span groups from their control points, positions (n, 3) (mm)."""
-    points = layout.span_points(positions)
-    span_low, span_high = points.min(axis=1), points.max(axis=1)
-    first = groups.spans[0]
-    return Boxes(
-        low=np.minimum.reduceat(span_low, first, axis=0),
-        high=np.maximum.reduceat(span_high, first, axis=0),
-    )
+    out = np.empty((2, groups.spans.shape[1], 3))
+    _kernels.control_point_boxes(positions, layout.span_first, groups.spans, layout.degree + 1, out)
+    return Boxes(low=out[0], high=out[1])
 
 
 def select_images(
@@ -116,13 +113,22 @@ def select_images(
     """
     if lattice is None:
         return np.zeros((1, 2), dtype=np.int64)
-    shifts = np.arange(-max_shift, max_shift + 1)
-    grid = np.stack(np.meshgrid(shifts, shifts, indexing="ij"), axis=-1).reshape(-1, 2)
+    grid = _image_grid(max_shift)
     translations = lattice.shifts(grid) @ deformation_gradient.T
     size = boxes.high.max(axis=0) - boxes.low.min(axis=0) + reach
-    images = grid[np.all(np.abs(translations) <= size, axis=1)]
-    order = np.lexsort((images[:, 1], images[:, 0], np.abs(images).sum(axis=1)))
-    return images[order].astype(np.int64)
+    return grid[np.all(np.abs(translations) <= size, axis=1)]
+
+
+@functools.cache
+def _image_grid(max_shift: int) -> np.ndarray:
+    """The images (i, j), |i|, |j| <= max_shift, shape ((2 max_shift + 1)^2, 2) int64, in the
+    order `select_images` returns them: by |i| + |j|, then i, then j (read-only)."""
+    shifts = np.arange(-max_shift, max_shift + 1)
+    grid = np.stack(np.meshgrid(shifts, shifts, indexing="ij"), axis=-1).reshape(-1, 2)
+    order = np.lexsort((grid[:, 1], grid[:, 0], np.abs(grid).sum(axis=1)))
+    grid = grid[order].astype(np.int64)
+    grid.flags.writeable = False
+    return grid
 
 
 def find_candidates(
@@ -155,22 +161,26 @@ def find_candidates(
     slave_boxes = np.ascontiguousarray(np.concatenate([slave_points, slave_points]))
     order = np.argsort(master_boxes[0], kind="stable")
     slave, master = overlapping_boxes(slave_boxes, master_boxes, order)
-    image, group = np.divmod(master, n_groups)
 
-    # Strand and arc interval of every master box (group in image), then the exclusion.
+    # Strand and arc shift of every master box (group in image), then the exclusion.
     box_image = np.repeat(np.arange(images.shape[0]), n_groups)
     box_group = np.tile(np.arange(n_groups), images.shape[0])
     box_strand, box_shift = layout.strands(groups.yarn[box_group], images[box_image])
-    arc = layout.point_arc[slave]
-    reach_along = np.maximum(
-        np.abs(groups.arc_start[group] + box_shift[master] - arc),
-        np.abs(groups.arc_end[group] + box_shift[master] - arc),
+    kept = np.empty((3, slave.size), dtype=np.int64)
+    count = _kernels.apart_pairs(
+        slave,
+        master,
+        _kernels.MasterStrands(
+            box_strand, np.asarray(box_shift, dtype=float), groups.arc_start, groups.arc_end
+        ),
+        _kernels.PointStrands(layout.point_arc, np.asarray(slave_strands, dtype=np.int64)),
+        float(exclusion_arc_length),
+        kept,
     )
-    keep = (box_strand[master] != slave_strands[slave]) | (reach_along >= exclusion_arc_length)
     return Candidates(
-        slave=slave[keep],
-        group=group[keep],
-        image=image[keep],
+        slave=kept[0, :count],
+        group=kept[1, :count],
+        image=kept[2, :count],
         box_pairs=int(slave.size),
         all_pairs=int(slave_points.shape[1] * layout.n_spans * images.shape[0]),
     )

@@ -16,7 +16,9 @@ import numpy as np
 
 __all__ = [
     "FrictionHistory",
+    "SortedAnchors",
     "match_anchors",
+    "sort_anchors",
 ]
 
 _STRAND_BITS = 31  # strand keys stay below 2^31 (yarn << 20 | image offsets)
@@ -54,25 +56,45 @@ class FrictionHistory(NamedTuple):
         return self.slave.size
 
 
+class SortedAnchors(NamedTuple):
+    """The anchors of a `FrictionHistory` as `match_anchors` searches them (`sort_anchors`).
+
+    Attributes:
+        order: (h,) the anchors by slave point and strand, then arc coordinate.
+        key: (h,) the slave-and-strand key of each, in that order.
+        arc: (h,) the arc coordinate of each, in that order (mm).
+    """
+
+    order: np.ndarray
+    key: np.ndarray
+    arc: np.ndarray
+
+
+def sort_anchors(history: FrictionHistory) -> SortedAnchors:
+    """The anchors of `history` sorted for `match_anchors` (made once per committed history,
+    searched at every evaluation)."""
+    history_key = (history.slave.astype(np.int64) << _STRAND_BITS) + history.strand
+    order = np.lexsort((history.arc, history_key))
+    return SortedAnchors(order, history_key[order], history.arc[order])
+
+
 def match_anchors(
-    history: FrictionHistory,
+    anchors: SortedAnchors,
     slave: np.ndarray,
     strand: np.ndarray,
     arc: np.ndarray,
     window: float,
 ) -> np.ndarray:
-    """Anchor of each current contact: index into `history`, or -1 if it has none.
+    """Anchor of each current contact: index into the history of `anchors`, or -1 if it has
+    none.
 
     A contact (slave point, strand, arc coordinate) takes the anchor of the same slave point
     on the same strand whose arc coordinate is nearest, if it lies within `window` (mm).
     """
     result = np.full(slave.size, -1, dtype=np.int64)
-    if len(history) == 0 or slave.size == 0:
+    order, sorted_key, sorted_arc = anchors
+    if order.size == 0 or slave.size == 0:
         return result
-    history_key = (history.slave.astype(np.int64) << _STRAND_BITS) + history.strand
-    order = np.lexsort((history.arc, history_key))
-    sorted_key = history_key[order]
-    sorted_arc = history.arc[order]
     key = (slave.astype(np.int64) << _STRAND_BITS) + strand
     low = np.searchsorted(sorted_key, key, side="left")
     high = np.searchsorted(sorted_key, key, side="right")

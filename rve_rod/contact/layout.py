@@ -15,11 +15,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rve_rod.contact import _kernels
 from rve_rod.errors import InputError, check_integer
 from rve_rod.geometry.bspline import (
     basis_functions,
     basis_matrix,
     check_knot_vector,
+    collocation_solve,
     find_spans,
     greville_abscissae,
 )
@@ -187,18 +189,22 @@ class ContactLayout:
         """(S, p+1) global index of the control points acting on each span."""
         return self.span_first[:, None] + np.arange(self.degree + 1)[None, :]
 
-    def span_points(self, positions: np.ndarray) -> np.ndarray:
-        """Control points of each span, shape (S, p+1, 3), from positions (n, 3)."""
-        return np.take(positions, self.span_control_points, axis=0)
-
     def coefficients(self, positions: np.ndarray) -> np.ndarray:
         """Power-basis coefficients of every span, (3, p+1, S): C(tau) = sum_k c[:, k] tau^k."""
-        return np.einsum("sac,sak->cks", self.span_points(positions), self.span_basis)
+        out = np.empty((3, self.degree + 1, self.n_spans))
+        _kernels.span_coefficients(positions, self.span_control_points, self.span_basis, out)
+        return out
+
+    @functools.cached_property
+    def _point_first(self) -> np.ndarray:
+        """(m,) the first control point acting at each collocation point."""
+        return self.span_first[self.point_span].astype(np.int64)
 
     def collocation_positions(self, positions: np.ndarray) -> np.ndarray:
         """Centreline positions at the collocation points, shape (3, m) (mm)."""
-        local = positions[self.span_first[self.point_span][:, None] + np.arange(self.degree + 1)]
-        return np.einsum("ma,mac->cm", self.point_basis, local)
+        out = np.empty((3, self.n_points))
+        _kernels.point_positions(positions, self._point_first, self.point_basis, out)
+        return out
 
     def basis(self, spans: np.ndarray, tau: np.ndarray, derivative: int = 0) -> np.ndarray:
         """Basis values (or tau-derivatives) of the spans' control points at tau, (k, p+1)."""
@@ -380,10 +386,11 @@ def _collocation_weights(patches, cp_offset, span_first, span_basis, speed):
     np.add.at(integrals, span_first[:, None] + np.arange(degree + 1), contribution)
     result = []
     for k, patch in enumerate(patches):
-        matrix = basis_matrix(patch.knots, degree, patch.collocation_parameters).toarray()
+        parameters = patch.collocation_parameters
         integral = integrals[cp_offset[k] : cp_offset[k + 1]]
-        if matrix.shape[0] == matrix.shape[1]:  # collocation at as many points as controls
-            result.append(np.linalg.solve(matrix.T, integral))
+        if parameters.size == integral.size:  # collocation at as many points as controls
+            result.append(collocation_solve(patch.knots, degree, parameters, integral, True))
         else:
+            matrix = basis_matrix(patch.knots, degree, parameters).toarray()
             result.append(np.linalg.lstsq(matrix.T, integral, rcond=None)[0])
     return np.concatenate(result)

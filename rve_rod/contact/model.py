@@ -38,7 +38,7 @@ from rve_rod.contact.forces import (
     contact_loads,
     kinematics,
 )
-from rve_rod.contact.friction import FrictionHistory, match_anchors
+from rve_rod.contact.friction import FrictionHistory, match_anchors, sort_anchors
 from rve_rod.contact.law import CompressibleYarnLaw, CoulombFriction
 from rve_rod.contact.layout import (
     ContactLayout,
@@ -403,6 +403,7 @@ class ContactModel:
             point_yarn, np.zeros((point_yarn.size, 2), dtype=np.int64)
         )
         self._history = FrictionHistory.empty()
+        self._sorted_anchors: tuple | None = None  # (history, sort_anchors(history))
         self.anchor_at(reference_positions, np.eye(3))
 
     @property
@@ -536,8 +537,14 @@ class ContactModel:
     def _anchors(self, points, slave_points, deformation, active: _Selection) -> _Anchors:
         """The committed anchors of the active contacts and their slip vectors."""
         history = self._history
+        if self._sorted_anchors is None or self._sorted_anchors[0] is not history:
+            self._sorted_anchors = (history, sort_anchors(history))
         anchor = match_anchors(
-            history, active.slave, active.strand, active.arc, self.exclusion_arc_length
+            self._sorted_anchors[1],
+            active.slave,
+            active.strand,
+            active.arc,
+            self.exclusion_arc_length,
         )
         rows = np.flatnonzero(anchor >= 0)
         anchor = anchor[rows]
@@ -661,7 +668,9 @@ class ContactModel:
     def _span_points(self, points, spans, tau):
         """Curve points (3, k) at local parameters tau of spans, in the cell."""
         basis = self.layout.basis(spans, tau)
-        return np.einsum("ka,kac->ck", basis, self.layout.span_points(points)[spans])
+        out = np.empty((3, spans.size))
+        _kernels.point_positions(points, self.layout.span_first[spans], basis, out)
+        return out
 
     def _trial_history(self, detected: _Selection, active_rows, loads: ContactLoads):
         """Anchors of all detected pairs: offset v - g_e (g_e = 0 where there is no friction)."""
@@ -719,9 +728,9 @@ class ContactModel:
         basis[3, anchored] = layout.basis(anchors.span[anchored], anchors.tau[anchored])
         chain = _kernels.SpanChain(first, np.ascontiguousarray(basis.transpose(0, 2, 1)))
         # d load / d F_ab = (d load / d x_m)[:, a] L_b + (d load / d x_a)[:, a] L_a,b.
-        deformation = np.einsum(
-            "iak,kb->ikab", loads.blocks[MASTER][:, :2], shift[:, :2]
-        ) + np.einsum("iak,kb->ikab", loads.blocks[ANCHOR][:, :2], anchors.shift[:, :2])
+        deformation = _outer(loads.blocks[MASTER][:, :2], shift[:, :2]) + _outer(
+            loads.blocks[ANCHOR][:, :2], anchors.shift[:, :2]
+        )
         if t:
             extra = np.einsum(
                 "iat,tb->tiab", -outer[:, :2], self._shifts(terms.image)[:, :2]
@@ -790,6 +799,11 @@ def _as_point_forces(loads: ContactLoads, scale: np.ndarray) -> ContactLoads:
         friction_load=loads.friction_load * scale,
         blocks=loads.blocks * scale,
     )
+
+
+def _outer(blocks: np.ndarray, shifts: np.ndarray) -> np.ndarray:
+    """(3, k, 2, 2) blocks[i, a, k] shifts[k, b] from blocks (3, 2, k) and shifts (k, 2)."""
+    return blocks.transpose(0, 2, 1)[:, :, :, None] * shifts[None, :, None, :]
 
 
 def _sum_per_point(points: np.ndarray, values: np.ndarray, n_points: int) -> np.ndarray:

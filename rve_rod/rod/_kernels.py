@@ -333,14 +333,16 @@ def collocation_equations(point, reference, stiffness, with_jacobian):
 
 @njit(cache=True)
 def scatter_jacobian(d_local, basis, index, data):
-    """Chain local derivatives with the basis and add them into CSR data.
+    """Chain local derivatives with the basis and write them into CSR data.
 
     Args:
         d_local: (7, 18, m) derivative of the 7 equations w.r.t. the local variables.
         basis: (3, p+1, m) basis values, first and second derivatives.
         index: (7, 7, p+1, m) CSR data position of (equation r, control dof c of local control
-            point a) at point j, or -1 where the row is not assembled (end-condition rows).
-        data: (nnz,) CSR data, added to.
+            point a) at point j (each position at most once), or -1 where the row is not
+            assembled (end-condition rows).
+        data: (nnz,) CSR data; the positions of `index` are written, the others left as
+            they are.
     """
     m = d_local.shape[2]
     width = basis.shape[1]
@@ -353,9 +355,9 @@ def scatter_jacobian(d_local, basis, index, data):
                 if index[r, 0, a, j] < 0:
                     continue
                 for c in range(3):
-                    data[index[r, c, a, j]] += d_local[r, c, j] * b1 + d_local[r, 3 + c, j] * b2
+                    data[index[r, c, a, j]] = d_local[r, c, j] * b1 + d_local[r, 3 + c, j] * b2
                 for c in range(4):
-                    data[index[r, 3 + c, a, j]] += (
+                    data[index[r, 3 + c, a, j]] = (
                         d_local[r, 6 + c, j] * b0
                         + d_local[r, 10 + c, j] * b1
                         + d_local[r, 14 + c, j] * b2

@@ -352,30 +352,17 @@ class Joint(Condition):
     def evaluate(self, context: ConditionContext, load_factor: float) -> list[Block]:
         a, b = context.ends
         rows = context.rows
-        columns = np.concatenate([a.columns, b.columns])
-        blocks = [
-            Block(
-                rows[:3],
-                b.position - a.position,
-                columns,
-                np.hstack([-a.d_position, b.d_position]),
-            )
-        ]
+        columns, d_position, c_conj, right_c = self._constant(context)
+        blocks = [Block(rows[:3], b.position - a.position, columns, d_position)]
         if self.offset is not None:
             offset = self.offset(context.state, load_factor)
             blocks.append(Block(rows[:3], -offset.value, offset.columns, -offset.derivative))
-        relative = quaternion.multiply(
-            quaternion.conjugate(a.reference_quaternion), b.reference_quaternion
-        )
-        c_conj = quaternion.conjugate(relative / np.linalg.norm(relative))
         # e = vec(conj(q_a) * q_b * conj(c)): linear in q_b and in conj(q_a)
         qb_c = quaternion.multiply(b.quaternion, c_conj)
+        qa_conj = quaternion.conjugate(a.quaternion)
         d_qa = (quaternion.right_matrix(qb_c) @ np.diag([1.0, -1.0, -1.0, -1.0]))[1:]
-        d_qb = (
-            quaternion.left_matrix(quaternion.conjugate(a.quaternion))
-            @ quaternion.right_matrix(c_conj)
-        )[1:]
-        error = quaternion.multiply(quaternion.conjugate(a.quaternion), qb_c)[1:]
+        d_qb = (quaternion.left_matrix(qa_conj) @ right_c)[1:]
+        error = quaternion.multiply(qa_conj, qb_c)[1:]
         blocks.append(
             Block(
                 rows[3:6],
@@ -401,6 +388,27 @@ class Joint(Condition):
             )
         )
         return blocks
+
+    def _constant(self, context: ConditionContext) -> tuple[np.ndarray, ...]:
+        """The state-independent parts of the blocks for the context's model, made at the
+        first call: the columns of both ends, the positions' derivative, conj(c) and its
+        right matrix."""
+        kept = self.__dict__.get("_kept")
+        if kept is not None and kept[0] is context.model:
+            return kept[1]
+        a, b = context.ends
+        relative = quaternion.multiply(
+            quaternion.conjugate(a.reference_quaternion), b.reference_quaternion
+        )
+        c_conj = quaternion.conjugate(relative / np.linalg.norm(relative))
+        constant = (
+            np.concatenate([a.columns, b.columns]),
+            np.hstack([-a.d_position, b.d_position]),
+            c_conj,
+            quaternion.right_matrix(c_conj),
+        )
+        object.__setattr__(self, "_kept", (context.model, constant))
+        return constant
 
 
 @dataclass(frozen=True, eq=False)
@@ -450,68 +458,117 @@ class PointSupport(Condition):
         return np.array([length] * 3 + [1.0] * len(self.rotation_axes))
 
     def evaluate(self, context: ConditionContext, load_factor: float) -> list[Block]:
-        model = context.model
-        layout = model.layout
+        constant = self._constant(context.model)
         state = context.state
+        rows = context.rows
+        values, multipliers, weights = constant.values, constant.multipliers, constant.weights
+        blocks = []
+        for c in range(3):
+            columns = constant.position_columns[:, c]
+            blocks.append(
+                Block(
+                    rows[c : c + 1],
+                    np.array([values @ state[columns] - constant.reference_position[c]]),
+                    columns,
+                    constant.d_position,
+                )
+            )
+            # reaction force component c, lumped onto the force rows
+            blocks.append(
+                Block(
+                    constant.load_rows[c],
+                    weights * state[multipliers[c]],
+                    multipliers[c : c + 1],
+                    constant.d_load,
+                )
+            )
+        if not self.rotation_axes:
+            return blocks
+        current = values @ state[constant.quaternion_columns]
+        for i, axis in enumerate(self.rotation_axes):
+            blocks.append(
+                Block(
+                    rows[3 + i : 4 + i],
+                    np.array([constant.rotation_errors[i] @ current]),
+                    constant.quaternion_columns.ravel(),
+                    constant.d_rotation[i],
+                )
+            )
+            for c in range(3):
+                blocks.append(
+                    Block(
+                        constant.load_rows[3 + c],
+                        weights * axis[c] * state[multipliers[3 + i]],
+                        multipliers[3 + i : 4 + i],
+                        constant.d_moment[i][c],
+                    )
+                )
+        return blocks
+
+    def _constant(self, model: "RodModel") -> "_SupportConstant":
+        """The state-independent parts of the blocks for `model`, made at the first call
+        (kept for the model: its patches and layout do not change)."""
+        kept = self.__dict__.get("_kept")
+        if kept is not None and kept.model is model:
+            return kept
+        layout = model.layout
         multipliers = layout.extra_offset + self.first_unknown + np.arange(self.extra_equations)
         if self.first_unknown < 0 or multipliers[-1] >= layout.n_dofs:
             raise InputError(
                 f"first_unknown={self.first_unknown} leaves no room for "
                 f"{self.extra_equations} multipliers among {layout.n_extra} extra unknowns"
             )
-        curve = model.patches[self.patch].centreline
+        patch = model.patches[self.patch]
         local, values = model.point_basis(self.patch, self.parameter)
-        position_columns = layout.position_dofs(self.patch)[local]  # (p+1, 3)
         points, weights = model.point_load_weights(self.patch, self.parameter)
-        reference_position = values @ curve.control_points[local]
-        rows = context.rows
-        blocks = []
-        for c in range(3):
-            blocks.append(
-                Block(
-                    rows[c : c + 1],
-                    np.array([values @ state[position_columns[:, c]] - reference_position[c]]),
-                    position_columns[:, c],
-                    values[None, :],
-                )
-            )
-            # reaction force component c, lumped onto the force rows
-            blocks.append(
-                Block(
-                    DOFS_PER_POINT * points + c,
-                    weights * state[multipliers[c]],
-                    multipliers[c : c + 1],
-                    weights[:, None],
-                )
-            )
-        if not self.rotation_axes:
-            return blocks
         quaternion_columns = layout.quaternion_dofs(self.patch)[local]  # (p+1, 4)
-        reference = values @ model.patches[self.patch].quaternions[local]
-        reference = reference / np.linalg.norm(reference)
-        # spatial small-rotation error R0 vec(conj(q0) q) (half angle times axis), linear in q
-        error = quaternion.rotation_matrix(reference) @ _rotation_error_matrix(reference)
-        current = values @ state[quaternion_columns]
-        for i, axis in enumerate(self.rotation_axes):
-            row_error = axis @ error  # (4,)
-            blocks.append(
-                Block(
-                    rows[3 + i : 4 + i],
-                    np.array([row_error @ current]),
-                    quaternion_columns.ravel(),
-                    (values[:, None] * row_error[None, :]).reshape(1, -1),
-                )
-            )
-            for c in range(3):
-                blocks.append(
-                    Block(
-                        DOFS_PER_POINT * points + 3 + c,
-                        weights * axis[c] * state[multipliers[3 + i]],
-                        multipliers[3 + i : 4 + i],
-                        (weights * axis[c])[:, None],
-                    )
-                )
-        return blocks
+        rotation_errors, d_rotation, d_moment = [], [], []
+        if self.rotation_axes:
+            reference = values @ patch.quaternions[local]
+            reference = reference / np.linalg.norm(reference)
+            # spatial small-rotation error R0 vec(conj(q0) q) (half angle times axis), linear
+            # in q
+            error = quaternion.rotation_matrix(reference) @ _rotation_error_matrix(reference)
+            for axis in self.rotation_axes:
+                row_error = axis @ error  # (4,)
+                rotation_errors.append(row_error)
+                d_rotation.append((values[:, None] * row_error[None, :]).reshape(1, -1))
+                d_moment.append([(weights * axis[c])[:, None] for c in range(3)])
+        kept = _SupportConstant(
+            model=model,
+            multipliers=multipliers,
+            values=values,
+            position_columns=layout.position_dofs(self.patch)[local],  # (p+1, 3)
+            reference_position=values @ patch.centreline.control_points[local],
+            d_position=values[None, :],
+            load_rows=[DOFS_PER_POINT * points + c for c in range(6)],
+            weights=weights,
+            d_load=weights[:, None],
+            quaternion_columns=quaternion_columns,
+            rotation_errors=rotation_errors,
+            d_rotation=d_rotation,
+            d_moment=d_moment,
+        )
+        object.__setattr__(self, "_kept", kept)
+        return kept
+
+
+class _SupportConstant(NamedTuple):
+    """What a `PointSupport`'s blocks take from its model (`PointSupport._constant`)."""
+
+    model: "RodModel"
+    multipliers: np.ndarray  # (3 + a,) state indices of the multipliers
+    values: np.ndarray  # (p+1,) basis values at u*
+    position_columns: np.ndarray  # (p+1, 3) state indices of the acting positions
+    reference_position: np.ndarray  # (3,) the held position (mm)
+    d_position: np.ndarray  # (1, p+1)
+    load_rows: list  # (6,) of (k,): force rows c, then moment rows c, of the lumping points
+    weights: np.ndarray  # (k,) lumping weights (1/mm)
+    d_load: np.ndarray  # (k, 1)
+    quaternion_columns: np.ndarray  # (p+1, 4) state indices of the acting quaternions
+    rotation_errors: list  # per axis (4,): the row of the linear rotation error
+    d_rotation: list  # per axis (1, 4(p+1))
+    d_moment: list  # per axis, per component c: (k, 1)
 
 
 def check_claims(conditions, layout: DofLayout) -> None:

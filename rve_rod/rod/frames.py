@@ -14,7 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from rve_rod.errors import InputError
-from rve_rod.geometry.bspline import BSplineCurve, basis_matrix
+from rve_rod.geometry.bspline import BSplineCurve, collocation_solve
 from rve_rod.rod import _kernels, quaternion
 
 __all__ = [
@@ -60,8 +60,7 @@ def quaternions_from_frames(
     if frames.shape != (n, 3, 3):
         raise InputError(f"frames must have shape ({n}, 3, 3), one per Greville point")
     values = quaternion.align_signs(quaternion.from_matrix(frames), previous)
-    matrix = basis_matrix(curve.knots, curve.degree, curve.greville()).toarray()
-    return np.linalg.solve(matrix, values)
+    return collocation_solve(curve.knots, curve.degree, curve.greville(), values)
 
 
 def reference_quaternions(

@@ -222,6 +222,7 @@ class _Pattern(NamedTuple):
     condition_targets: np.ndarray  # the distinct data positions of all of `conditions`
     condition_slots: np.ndarray  # all of `conditions` concatenated in order, as indices of
     # condition_targets (the conditions' entries are summed on these few, not on all of data)
+    unwritten: np.ndarray  # the data positions `interior` does not cover (zeroed, not all)
 
 
 class RodModel:
@@ -503,13 +504,18 @@ class RodModel:
                     entries = derivative.tocoo()
                     rows = self._load_rows[k][entries.row]
                     kept = rows >= 0
-                    load_jacobians.append((rows[kept], entries.col[kept], entries.data[kept]))
+                    if kept.all():  # (no load at an end point: the usual case)
+                        load_jacobians.append((rows, entries.col, entries.data))
+                    else:
+                        load_jacobians.append((rows[kept], entries.col[kept], entries.data[kept]))
         for k in range(2):
             residual[self._load_rows[k][self._load_mask[k]]] += loads[3 * k : 3 * k + 3].ravel()[
                 self._load_mask[k]
             ]
-        data = np.zeros(self._pattern.indices.size) if with_jacobian else None
+        data = None
         if with_jacobian:
+            data = np.empty(self._pattern.indices.size)
+            data[self._pattern.unwritten] = 0.0
             _kernels.scatter_jacobian(d_residual, self._basis, self._pattern.interior, data)
         residual_rows, residual_values, data_values = (
             [np.empty(0, np.int64)],
@@ -552,7 +558,8 @@ class RodModel:
             matrix = (self._pattern.indptr, self._pattern.indices, data)
             if load_jacobians:
                 rows, columns, values = (
-                    np.concatenate(part) for part in zip(*load_jacobians, strict=True)
+                    part[0] if len(part) == 1 else np.concatenate(part)
+                    for part in zip(*load_jacobians, strict=True)
                 )
                 capacity = data.size + values.size
                 out = (
@@ -852,7 +859,10 @@ class RodModel:
         targets, slots = np.unique(
             np.concatenate([np.empty(0, np.int64), *flat]), return_inverse=True
         )
-        return _Pattern(indices, indptr, interior, positions, targets, slots)
+        written = np.zeros(indices.size, dtype=bool)
+        written[interior[mask]] = True
+        unwritten = np.flatnonzero(~written)
+        return _Pattern(indices, indptr, interior, positions, targets, slots, unwritten)
 
 
 def _checked_block(block: Block, n_dofs: int, condition) -> Block:

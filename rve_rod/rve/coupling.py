@@ -122,8 +122,8 @@ class ContactCoupling:
             by_macro = derivatives.deformation.reshape(3, k, 4)[
                 :, :, self.macro.contact_components()
             ]  # (3, k, f)
-            rows = np.concatenate([rows, np.repeat(load_rows.ravel(), free.size)])
-            columns = np.concatenate([columns, np.tile(free, 3 * k)])
+            rows = np.concatenate([rows, np.repeat(load_rows.ravel(), free.size)], dtype=np.int32)
+            columns = np.concatenate([columns, np.tile(free, 3 * k)], dtype=np.int32)
             values = np.concatenate([values, by_macro.ravel()])
         force_jacobian = scipy.sparse.coo_matrix(
             (values, (rows, columns)), shape=(3 * m, model.n_dofs)

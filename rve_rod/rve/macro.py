@@ -23,6 +23,7 @@ end collocation points are left out because the rod does not apply them there (t
 the periodicity conditions); the cell is cut where there is no contact (docs/rve.md).
 """
 
+import functools
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -165,6 +166,17 @@ class MacroBalance(Condition):
     def row_scales(self, length: float, force: float) -> np.ndarray:
         return np.full(self.extra_equations, force / length)
 
+    @functools.cached_property
+    def _indices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(n, 3) the column 3i + c of position c of control point i in the positions' part
+        of a row, (n_free,) `MacroDeformation.contact_components`, and the columns of a row:
+        all positions, then the free components."""
+        return (
+            np.arange(self.position_columns.size).reshape(-1, 3),
+            self.macro.contact_components(),
+            np.concatenate([self.position_columns, self.macro.columns]),
+        )
+
     def evaluate(self, context: ConditionContext, load_factor: float) -> list[Block]:
         state = context.state
         ends = [context.model.end_values(state, cut) for cut in self.cuts]
@@ -173,10 +185,7 @@ class MacroBalance(Condition):
         contacts, derivatives = result.contacts, result.derivatives
         k = contacts.slave.size
         n_positions = self.position_columns.size
-        # position c of control point i: column 3i + c of the positions' part of the row
-        position_index = np.arange(n_positions).reshape(-1, 3)
-        components = self.macro.contact_components()
-        columns = np.concatenate([self.position_columns, self.macro.columns])
+        position_index, components, columns = self._indices
         period = coupling.lattice[0, 0]
         blocks = []
         for row, ((a, b), unknown) in enumerate(

@@ -9,6 +9,7 @@ from rve_rod.geometry.bspline import (
     BSplineCurve,
     basis_functions,
     basis_matrix,
+    collocation_solve,
     greville_abscissae,
     interpolate,
     join,
@@ -214,3 +215,28 @@ def test_bad_knot_vectors_and_parameters_are_refused():
     curve = random_curve(2, 5)
     with pytest.raises(InputError, match="outside the curve domain"):
         curve(np.array([1.5]))
+
+
+@pytest.mark.parametrize("degree", [2, 3, 4, 5])
+@pytest.mark.parametrize("transpose", [False, True])
+def test_collocation_solve_matches_the_dense_solve(degree, transpose):
+    curve = random_curve(degree, 40)
+    greville = curve.greville()
+    rhs = RNG.normal(size=(40, 3))
+    matrix = basis_matrix(curve.knots, degree, greville).toarray()
+    expected = np.linalg.solve(matrix.T if transpose else matrix, rhs)
+    found = collocation_solve(curve.knots, degree, greville, rhs, transpose)
+    np.testing.assert_allclose(found, expected, rtol=1e-12, atol=1e-12)
+    # one right-hand side as a vector
+    single = collocation_solve(curve.knots, degree, greville, rhs[:, 0], transpose)
+    np.testing.assert_allclose(single, expected[:, 0], rtol=1e-12, atol=1e-12)
+
+
+def test_collocation_solve_refuses_singular_and_non_square_systems():
+    curve = random_curve(3, 12)
+    params = curve.greville().copy()
+    params[5] = params[6] = 0.5 * (params[5] + params[6])  # two rows alike: singular
+    with pytest.raises(InputError, match="singular"):
+        collocation_solve(curve.knots, 3, params, np.ones(12))
+    with pytest.raises(InputError, match="not square"):
+        collocation_solve(curve.knots, 3, curve.greville()[:-1], np.ones(11))

@@ -337,3 +337,73 @@ def test_contact_loads_kernel_matches_numpy(exponent, mu, slip_size):
         np.testing.assert_allclose(actual, reference, rtol=1e-12, atol=1e-14)
     if mu > 0:  # both paths are exercised: stick for small slips, slip for large ones
         assert (1 if slip_size < 1e-3 else 2) in set(out.state)
+
+
+def test_apart_pairs_keeps_exactly_the_pairs_beyond_the_own_strand_exclusion():
+    rng = np.random.default_rng(11)
+    n_groups, n_images, n_points, k = 7, 3, 40, 500
+    boxes = n_groups * n_images
+    slave = rng.integers(0, n_points, k)
+    master = rng.integers(0, boxes, k)
+    masters = _kernels.MasterStrands(
+        strand=rng.integers(0, 3, boxes),
+        shift=rng.choice([-10.0, 0.0, 10.0], boxes),
+        arc_start=np.sort(rng.uniform(0.0, 10.0, n_groups)),
+        arc_end=np.sort(rng.uniform(0.0, 10.0, n_groups)) + 1.0,
+    )
+    points = _kernels.PointStrands(rng.uniform(0.0, 10.0, n_points), rng.integers(0, 3, n_points))
+    exclusion = 2.5
+    kept = np.empty((3, k), dtype=np.int64)
+    count = _kernels.apart_pairs(slave, master, masters, points, exclusion, kept)
+    # NumPy reference: group and image of each box, the reach of its group along the strand
+    image, group = np.divmod(master, n_groups)
+    shift = masters.shift[master]
+    arc = points.arc[slave]
+    along = np.maximum(
+        np.abs(masters.arc_start[group] + shift - arc), np.abs(masters.arc_end[group] + shift - arc)
+    )
+    keep = (masters.strand[master] != points.strand[slave]) | (along >= exclusion)
+    assert 0 < count < k
+    np.testing.assert_array_equal(kept[:, :count], np.stack([slave, group, image])[:, keep])
+
+
+@pytest.mark.parametrize("degree", [2, 4])
+def test_span_coefficients_and_point_positions_match_numpy_bit_for_bit(degree):
+    rng = np.random.default_rng(degree)
+    n, spans, points = 30, 20, 25
+    positions = rng.normal(size=(n, 7))[:, :3]  # a strided view, as the state's positions
+    control_points = rng.integers(0, n - degree, spans)[:, None] + np.arange(degree + 1)
+    basis = rng.normal(size=(spans, degree + 1, degree + 1))
+    out = np.empty((3, degree + 1, spans))
+    _kernels.span_coefficients(positions, control_points, basis, out)
+    # the same sums in the same order as NumPy's, and einsum's result
+    expected = positions[control_points[:, 0]][:, :, None] * basis[:, 0, None, :]
+    for a in range(1, degree + 1):
+        expected = expected + positions[control_points[:, a]][:, :, None] * basis[:, a, None, :]
+    np.testing.assert_array_equal(out, expected.transpose(1, 2, 0))
+    np.testing.assert_allclose(
+        out, np.einsum("sac,sak->cks", positions[control_points], basis), rtol=1e-14, atol=1e-14
+    )
+    first = rng.integers(0, n - degree, points)
+    point_basis = rng.uniform(size=(points, degree + 1))
+    found = np.empty((3, points))
+    _kernels.point_positions(positions, first, point_basis, found)
+    local = positions[first[:, None] + np.arange(degree + 1)]  # (m, p+1, 3)
+    np.testing.assert_array_equal(found, np.einsum("ma,mac->cm", point_basis, local))
+
+
+def test_control_point_boxes_bound_exactly_the_groups_control_points():
+    rng = np.random.default_rng(5)
+    degree, spans = 4, 23
+    span_first = np.cumsum(rng.integers(0, 3, spans))  # repeated knots skip control points
+    positions = rng.normal(size=(int(span_first[-1]) + degree + 1, 3))
+    counts = np.array([5, 5, 5, 5, 3])
+    group_spans = np.stack([np.concatenate([[0], np.cumsum(counts)[:-1]]), counts])
+    out = np.empty((2, counts.size, 3))
+    _kernels.control_point_boxes(positions, span_first, group_spans, degree + 1, out)
+    for g, (first, count) in enumerate(group_spans.T):
+        points = positions[
+            (span_first[first : first + count, None] + np.arange(degree + 1)).ravel()
+        ]
+        np.testing.assert_array_equal(out[0, g], points.min(axis=0))
+        np.testing.assert_array_equal(out[1, g], points.max(axis=0))

@@ -327,7 +327,7 @@ def reference_maxima(layout, points, slave_point, *, yarn, start, stop, samples=
         ]
         tau = np.clip((local - layout.span_arc_start[span]) / layout.span_arc_length[span], 0, 1)
         basis = layout.basis(np.array([span]), np.array([tau]), order)[0]
-        return basis @ layout.span_points(points)[span], layout.span_arc_length[span]
+        return basis @ points[layout.span_control_points[span]], layout.span_arc_length[span]
 
     arcs = start + np.arange(samples + 2) / (samples + 1) * (stop - start)
     values = [np.sum((geometry(arc, 0)[0] - slave_point) ** 2) for arc in arcs[1:-1]]

@@ -125,7 +125,7 @@ def test_scatter_jacobian_matches_dense_chain_rule(degree):
     keys = np.repeat(np.arange(7 * n), np.diff(pattern.indptr)) * 7 * n + pattern.indices
     index = np.full(rows.shape, -1, dtype=np.int64)
     index[mask] = np.searchsorted(keys, rows[mask] * 7 * n + columns[mask])
-    data = np.zeros(pattern.nnz)
+    data = np.full(pattern.nnz, np.nan)  # every position of the pattern must be written
     _kernels.scatter_jacobian(d_local, values, index, data)
     assembled = scipy.sparse.csr_matrix((data, pattern.indices, pattern.indptr)).toarray()
     dense[:6] = 0.0
