@@ -2,7 +2,7 @@
 
 numba compiles a kernel at its first call and keeps the machine code in `__pycache__` beside
 its module (`@njit(cache=True)`), so a new installation pays for the compilation in its first
-run: about 20 s of CPU for the 36 kernels (the clearance search's 5 about 6 s, the rod's and
+run: about 20 s of CPU for the 40 kernels (the clearance search's 5 about 6 s, the rod's and
 the contact's about 14 s; docs/benchmarks.md), in the first geometry and meso stages of
 `knitmech run`. `make bootstrap` (scripts/bootstrap.sh) runs this module from the source tree
 beside pip's install of the project, as a package with C extensions compiles them when it is
