@@ -10,8 +10,11 @@ and model: C (gf/cm), the coupling C12 C21 / (C11 C22) (1 for a loop of inextens
 deforms only at constant length, 0 for uncoupled directions), k (gf/cm per mm^2), k over the
 affine yarn's EA / (L w c) (the stiffness of the loop's length if the yarn alone carried it,
 EA of the model's rods, L the template's loop length), and the rest (gf/cm; negative where C
-does not fit the form with our a). The table goes into docs/validation.md ("What the shape of
-their response says", point 6).
+does not fit the form with our a). Then, per stitch value, their C split with the length
+gradient of each of our loop profiles (`OUT_OF_PLANE_PROFILES`: the model's "band" and the
+issue-14 experiment's literature shapes): a1 / a2 and their rest (a negative rest: their C
+does not fit that loop). The tables go into docs/validation.md ("What the shape of their
+response says", point 6).
 
     .venv/bin/python benchmarks/paper_rve_rest.py [--control-points 68]
 
@@ -23,7 +26,7 @@ import time
 
 import numpy as np
 
-from rve_rod.geometry.loop import loop_length_gradient, single_jersey_loop
+from rve_rod.geometry.loop import OUT_OF_PLANE_PROFILES, loop_length_gradient, single_jersey_loop
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.paper_comparison import AXIS_RAYS, compare_run, secant_at_rest, taut_loop_split
@@ -89,6 +92,26 @@ def main():
             first = [compare_run(fabric, ray, settings, states=1).second_piola[0] for ray in axes]
             ours = secant_at_rest(axes, [np.diagonal(s) for s in first])
             _row(stitch, f"{name} ({time.perf_counter() - started:.0f} s)", ours, gradient, affine)
+    profiles()
+
+
+def profiles():
+    """Their C at rest split with the length gradient of each loop profile (module docstring)."""
+    print(
+        "\n| stitch | loop profile | a1 / a2 | their rest C11, C22 (gf/cm) |\n|---:|---|---:|---|"
+    )
+    for stitch in STITCHES:
+        fabric = load_preset("cotton-20s2", stitch)
+        w, c = fabric.knit.wale_width, fabric.knit.course_height
+        rays = biaxial_rays(stitch)
+        axes = [min(rays, key=lambda ray, a=a: abs(ray.angle_deg - a)) for a in AXIS_RAYS]
+        theirs = secant_at_rest(axes, [np.diagonal(ray.second_piola[0]) for ray in axes])
+        for profile in OUT_OF_PLANE_PROFILES:
+            loop = single_jersey_loop(w, c, fabric.yarn.minimal_radius, profile=profile)
+            gradient = loop_length_gradient(w, c, loop.yarn_radius, profile=profile)
+            rest = n_per_mm_to_gf_per_cm(taut_loop_split(theirs, gradient).rest)
+            ratio = gradient[0] / gradient[1]
+            print(f"| {stitch} | {profile} | {ratio:.3f} | {rest[0]:.0f} / {rest[1]:.0f} |")
 
 
 if __name__ == "__main__":

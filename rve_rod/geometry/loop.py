@@ -333,13 +333,18 @@ def loop_geometry(knit: Knit, minimal_radius: float) -> LoopGeometry:
 
 
 def loop_length_gradient(
-    wale_width: float, course_height: float, yarn_radius: float, step: float = 0.01
+    wale_width: float,
+    course_height: float,
+    yarn_radius: float,
+    step: float = 0.01,
+    profile: str = "band",
 ) -> np.ndarray:
     """(2,) (w dL/dw, c dL/dc) (mm): how the minimum-length loop's length L grows with a
     course-wise and a wale-wise strain of the knit, the yarn radius r held (a finite
     difference of relative size `step`: central in c, forward in w, since a narrower loop
-    could not hold r = w/8). A taut loop of inextensible yarn can only deform along the null
-    direction of this gradient (docs/validation.md, "What the shape of their response says")."""
+    could not hold r = w/8), for the loop's out-of-plane `profile` (OUT_OF_PLANE_PROFILES). A
+    taut loop of inextensible yarn can only deform along the null direction of this gradient
+    (docs/validation.md, "What the shape of their response says")."""
     w = check_positive("wale_width", wale_width, "mm")
     c = check_positive("course_height", course_height, "mm")
     r = check_positive("yarn_radius", yarn_radius, "mm")
@@ -350,7 +355,7 @@ def loop_length_gradient(
     check_range("step", step, 1e-4, 0.1)
 
     def length(wale: float, course: float) -> float:
-        return single_jersey_loop(wale, course, r).loop_length
+        return single_jersey_loop(wale, course, r, profile=profile).loop_length
 
     along_w = (length(w * (1 + step), c) - length(w, c)) / step
     along_c = (length(w, c * (1 + step)) - length(w, c * (1 - step))) / (2 * step)

@@ -277,20 +277,21 @@ def test_bad_input_is_refused(arguments, message):
         single_jersey_loop(*arguments)
 
 
-def test_the_loop_length_gradient_obeys_eulers_relation_of_a_scale_free_loop():
+@pytest.mark.parametrize("profile", ["band", "parabolic"])
+def test_the_loop_length_gradient_obeys_eulers_relation_of_a_scale_free_loop(profile):
     """The loop has no length scale but w, c and r: L(s w, s c, s r) = s L, so
     w dL/dw + c dL/dc + r dL/dr = L (r dL/dr by a central difference here, r below w/8)."""
     w, c = 1.33, 1.26
     r = 0.9 * w / 8
-    gradient = loop_length_gradient(w, c, r)
+    gradient = loop_length_gradient(w, c, r, profile=profile)
     assert np.all(gradient > 0)
     h = 0.01
-    along_r = (
-        single_jersey_loop(w, c, r * (1 + h)).loop_length
-        - single_jersey_loop(w, c, r * (1 - h)).loop_length
-    ) / (2 * h)
-    length = single_jersey_loop(w, c, r).loop_length
-    assert gradient.sum() + along_r == pytest.approx(length, rel=0.005)
+
+    def length(radius):
+        return single_jersey_loop(w, c, radius, profile=profile).loop_length
+
+    along_r = (length(r * (1 + h)) - length(r * (1 - h))) / (2 * h)
+    assert gradient.sum() + along_r == pytest.approx(length(r), rel=0.005)
 
 
 def test_the_loop_length_gradient_refuses_a_yarn_wider_than_the_loop_holds():
