@@ -53,6 +53,7 @@ def kernels() -> dict[str, CPUDispatcher]:
 def uncached_kernels() -> list[str]:
     """The kernels with no index file in numba's cache (a kernel compiled once has one, also
     when it was compiled as the callee of another)."""
+    # numba 0.56 (Debian 12) names no public path for a dispatcher's cache index
     return [
         name
         for name, kernel in kernels().items()

@@ -25,7 +25,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rve_rod.errors import ConvergenceError
+from rve_rod.errors import ConvergenceError, InputError
 from rve_rod.presets import Fabric
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase, PictureFrameShear, load_case
 from rve_rod.rve.paper_data import GroupRun
@@ -247,6 +247,11 @@ def taut_loop_split(stiffness: np.ndarray, gradient: np.ndarray) -> TautLoopSpli
     and k = sqrt(C12 C21) / (a1 a2), and the diagonal rest (`TautLoopSplit`)."""
     c = np.asarray(stiffness, dtype=float)
     a = np.asarray(gradient, dtype=float)
+    if c.shape != (2, 2) or a.shape != (2,) or not np.all(a > 0):
+        raise InputError(
+            f"taut_loop_split needs a (2, 2) stiffness and a (2,) gradient of positive entries "
+            f"(mm); got shapes {c.shape}, {a.shape} and gradient {a.tolist()}"
+        )
     product = c[0, 1] * c[1, 0]
     k = float(np.sqrt(max(product, 0.0)) / (a[0] * a[1]))
     return TautLoopSplit(k, np.diagonal(c) - k * a**2, float(product / (c[0, 0] * c[1, 1])))

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from rve_rod.errors import InputError
 from rve_rod.presets import load_preset
 from rve_rod.rve.paper_comparison import (
     AXIS_RAYS,
@@ -120,3 +121,8 @@ def test_the_taut_loop_split_recovers_the_length_stiffness_and_the_rest():
     uncoupled = taut_loop_split(np.diag(rest), gradient)
     assert uncoupled.stiffness == 0.0 and uncoupled.coupling == 0.0
     np.testing.assert_array_equal(uncoupled.rest, rest)
+
+
+def test_the_taut_loop_split_refuses_a_gradient_that_is_not_positive():
+    with pytest.raises(InputError, match=r"gradient \[1.2, 0.0\]"):
+        taut_loop_split(np.eye(2), np.array([1.2, 0.0]))
