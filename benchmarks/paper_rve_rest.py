@@ -13,12 +13,14 @@ EA of the model's rods, L the template's loop length), and the rest (gf/cm; nega
 does not fit the form with our a). Then, per stitch value, their C split with the length
 gradient of each of our loop profiles (`OUT_OF_PLANE_PROFILES`: the model's "band" and the
 issue-14 experiment's literature shapes): a1 / a2 and their rest (a negative rest: their C
-does not fit that loop). The tables go into docs/validation.md ("What the shape of their
-response says", point 6).
+does not fit that loop). Last, the same split on the parabolic loop (the one whose gradient
+their C fits at 4.5): theirs and ours (the default model and two stiffer contacts) split with
+its own a, k / affine to four digits. The tables go into docs/validation.md ("What the shape
+of their response says", point 6).
 
     .venv/bin/python benchmarks/paper_rve_rest.py [--control-points 68]
 
-Two minutes at 68 control points on the shared 2-core machine (2026-11-27).
+About three minutes at 68 control points on the shared 2-core machine (2026-11-28).
 """
 
 import argparse
@@ -29,7 +31,13 @@ import numpy as np
 from rve_rod.geometry.loop import OUT_OF_PLANE_PROFILES, loop_length_gradient, single_jersey_loop
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.paper_comparison import AXIS_RAYS, compare_run, secant_at_rest, taut_loop_split
+from rve_rod.rve.paper_comparison import (
+    AXIS_RAYS,
+    compare_run,
+    loop_profile_runner,
+    secant_at_rest,
+    taut_loop_split,
+)
 from rve_rod.rve.paper_data import biaxial_rays
 from rve_rod.rve.simulation import RveSettings
 from rve_rod.rve.yarn import YarnSettings, yarn_model
@@ -46,16 +54,21 @@ MODELS = {
         contact_radius="measured", friction=False
     ),
 }
+PARABOLIC_MODELS = {
+    "free fibres (the default)": YarnSettings(),
+    "free fibres, contact x1.5": YarnSettings(contact_stiffness_factor=0.015),
+    "free fibres, contact x2": YarnSettings(contact_stiffness_factor=0.02),
+}
 
 
-def _row(stitch, model, stiffness, gradient, affine):
+def _row(stitch, model, stiffness, gradient, affine, digits=3):
     split = taut_loop_split(stiffness, gradient)
     c = n_per_mm_to_gf_per_cm(np.asarray(stiffness))
     k = n_per_mm_to_gf_per_cm(split.stiffness)
     rest = n_per_mm_to_gf_per_cm(split.rest)
     print(
         f"| {stitch} | {model} | {c[0, 0]:.0f} / {c[0, 1]:.0f} / {c[1, 0]:.0f} / {c[1, 1]:.0f} "
-        f"| {split.coupling:.2f} | {k:.1f} | {split.stiffness / affine:.3f} "
+        f"| {split.coupling:.2f} | {k:.1f} | {split.stiffness / affine:.{digits}f} "
         f"| {rest[0]:.0f} / {rest[1]:.0f} |",
         flush=True,
     )
@@ -93,6 +106,7 @@ def main():
             ours = secant_at_rest(axes, [np.diagonal(s) for s in first])
             _row(stitch, f"{name} ({time.perf_counter() - started:.0f} s)", ours, gradient, affine)
     profiles()
+    parabolic(args.control_points)
 
 
 def profiles():
@@ -112,6 +126,37 @@ def profiles():
             rest = n_per_mm_to_gf_per_cm(taut_loop_split(theirs, gradient).rest)
             ratio = gradient[0] / gradient[1]
             print(f"| {stitch} | {profile} | {ratio:.3f} | {rest[0]:.0f} / {rest[1]:.0f} |")
+
+
+def parabolic(control_points: int):
+    """Theirs and ours at rest on the parabolic loop, split with its length gradient."""
+    print(
+        "\n| stitch | model (parabolic loop) | C11 / C12 / C21 / C22 (gf/cm) | coupling "
+        "| k (gf/cm/mm^2) | k / affine | rest C11, C22 (gf/cm) |\n|---:|---|---|---:|---:|---:|---|"
+    )
+    run = loop_profile_runner("parabolic")
+    for stitch in STITCHES:
+        fabric = load_preset("cotton-20s2", stitch)
+        w, c = fabric.knit.wale_width, fabric.knit.course_height
+        loop = single_jersey_loop(w, c, fabric.yarn.minimal_radius, profile="parabolic")
+        gradient = loop_length_gradient(w, c, loop.yarn_radius, profile="parabolic")
+        affine = yarn_model(fabric).section.axial / (loop.loop_length * w * c)
+        rays = biaxial_rays(stitch)
+        axes = [min(rays, key=lambda ray, a=a: abs(ray.angle_deg - a)) for a in AXIS_RAYS]
+        theirs = secant_at_rest(axes, [np.diagonal(ray.second_piola[0]) for ray in axes])
+        _row(stitch, "theirs", theirs, gradient, affine, digits=4)
+        for name, yarn_settings in PARABOLIC_MODELS.items():
+            started = time.perf_counter()
+            settings = RveSettings(
+                cell=CellSettings(control_points=control_points), yarn=yarn_settings
+            )
+            first = [
+                compare_run(fabric, ray, settings, states=1, runner=run).second_piola[0]
+                for ray in axes
+            ]
+            ours = secant_at_rest(axes, [np.diagonal(s) for s in first])
+            label = f"{name} ({time.perf_counter() - started:.0f} s)"
+            _row(stitch, label, ours, gradient, affine, digits=4)
 
 
 if __name__ == "__main__":

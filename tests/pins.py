@@ -256,7 +256,8 @@ PAPER_COMPARISON_FAST = {
 TAUT_LOOP_FAST = {
     # k / affine: the stiffness of the loop's length at rest over the affine yarn's EA / (L w c);
     # coupling: C12 C21 / (C11 C22) (docs/validation.md, point 6 of "What the shape of their
-    # response says"); ours: the default model at 28 control points
+    # response says"); ours: the default model at 28 control points, on the model's loop unless
+    # the key names the parabolic one
     "4.5 theirs k / affine": Pin(0.42360212443494405, SOLVED, PAPER),
     "4.5 theirs coupling": Pin(0.6487800494381771, SOLVED, PAPER),
     "4.5 ours k / affine": Pin(0.00651124846495605, SOLVED, PAPER),
@@ -267,6 +268,17 @@ TAUT_LOOP_FAST = {
     "5.5 ours coupling": Pin(0.03635925370401677, SOLVED, PAPER),
     "6.5 theirs k / affine": Pin(0.012928719777528182, SOLVED, PAPER),
     "6.5 theirs coupling": Pin(0.14094517583024124, SOLVED, PAPER),
+    # the parabolic loop (the issue-14 profile): split with its own length gradient; ours the
+    # default model on that loop
+    "4.5 parabolic theirs k / affine": Pin(0.320317622014924, SOLVED, PAPER),
+    "4.5 parabolic ours k / affine": Pin(0.06013615625680775, SOLVED, PAPER),
+    "4.5 parabolic ours coupling": Pin(0.5990751543440443, SOLVED, PAPER),
+    "5.5 parabolic theirs k / affine": Pin(0.07349209711774644, SOLVED, PAPER),
+    "5.5 parabolic ours k / affine": Pin(0.009573154053695167, SOLVED, PAPER),
+    "5.5 parabolic ours coupling": Pin(0.2630815318567701, SOLVED, PAPER),
+    "6.5 parabolic theirs k / affine": Pin(0.011825906179374157, SOLVED, PAPER),
+    "6.5 parabolic ours k / affine": Pin(0.002096788390727558, SOLVED, PAPER),
+    "6.5 parabolic ours coupling": Pin(0.07935975870516535, SOLVED, PAPER),
 }
 
 DESIGN = "docs/design.md (the checks)"

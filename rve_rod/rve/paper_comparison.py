@@ -15,7 +15,8 @@ got (the rest is NaN and counts as a failure).
 Poisson ratios at the strains of `paper_data.UNIAXIAL_READINGS`; `secant_at_rest` the secant
 stiffness at rest through the first states of their two rays nearest the axes (`AXIS_RAYS`);
 `first_increment_ratio` whether a ray starts slack (and stiffens) or taut; `taut_loop_split`
-how much of a stiffness at rest runs through the length of the loop.
+how much of a stiffness at rest runs through the length of the loop; `loop_profile_runner` any
+of these on a loop of another out-of-plane profile.
 """
 
 import time
@@ -26,6 +27,7 @@ from typing import NamedTuple
 import numpy as np
 
 from rve_rod.errors import ConvergenceError, InputError
+from rve_rod.geometry.loop import single_jersey_loop
 from rve_rod.presets import Fabric
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase, PictureFrameShear, load_case
 from rve_rod.rve.paper_data import GroupRun
@@ -40,6 +42,7 @@ __all__ = [
     "UniaxialComparison",
     "compare_run",
     "first_increment_ratio",
+    "loop_profile_runner",
     "run_case",
     "run_or_history",
     "secant_at_rest",
@@ -193,8 +196,27 @@ def uniaxial_comparison(
 
 def run_or_history(fabric: Fabric, case: LoadCase, settings: RveSettings) -> RveResult:
     """`simulate`, or the converged states of a run that stopped early."""
+    return _run_or_history(fabric, case, settings, None)
+
+
+def loop_profile_runner(profile: str) -> Runner:
+    """A `Runner` on the jersey loop of out-of-plane `profile` (`OUT_OF_PLANE_PROFILES` of
+    `rve_rod.geometry.loop`: the issue-14 experiment's literature shapes) in place of the
+    model's "band" loop; like `run_or_history`, a run that stops early returns its history."""
+
+    def run(fabric: Fabric, case: LoadCase, settings: RveSettings) -> RveResult:
+        knit = fabric.knit
+        loop = single_jersey_loop(
+            knit.wale_width, knit.course_height, fabric.yarn.minimal_radius, profile=profile
+        )
+        return _run_or_history(fabric, case, settings, list(loop.curves))
+
+    return run
+
+
+def _run_or_history(fabric, case, settings, curves) -> RveResult:
     try:
-        return simulate(fabric, case, settings)
+        return simulate(fabric, case, settings, curves=curves)
     except ConvergenceError as error:
         return error.history
 

@@ -5,11 +5,13 @@ import pytest
 
 from rve_rod.errors import InputError
 from rve_rod.presets import load_preset
+from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.paper_comparison import (
     AXIS_RAYS,
     RunComparison,
     compare_run,
     first_increment_ratio,
+    loop_profile_runner,
     secant_at_rest,
     taut_loop_split,
 )
@@ -126,3 +128,19 @@ def test_the_taut_loop_split_recovers_the_length_stiffness_and_the_rest():
 def test_the_taut_loop_split_refuses_a_gradient_that_is_not_positive():
     with pytest.raises(InputError, match=r"gradient \[1.2, 0.0\]"):
         taut_loop_split(np.eye(2), np.array([1.2, 0.0]))
+
+
+def test_the_loop_profile_runner_runs_the_loop_of_that_profile():
+    """On the model's own profile it is the default run, to the bit; on the parabolic loop
+    (bent out of plane over its whole height: another cell) the stresses differ."""
+    fabric = load_preset("cotton-20s2", 5.5)
+    ray = min(biaxial_rays(5.5), key=lambda run: abs(run.angle_deg - AXIS_RAYS[0]))
+    settings = RveSettings(cell=CellSettings(control_points=20))
+    default = compare_run(fabric, ray, settings, states=1).second_piola
+    band = compare_run(fabric, ray, settings, states=1, runner=loop_profile_runner("band"))
+    parabolic = compare_run(
+        fabric, ray, settings, states=1, runner=loop_profile_runner("parabolic")
+    ).second_piola
+    np.testing.assert_array_equal(band.second_piola, default)
+    assert np.all(np.isfinite(parabolic))
+    assert abs(parabolic[0, 0, 0] / default[0, 0, 0] - 1) > 0.1
