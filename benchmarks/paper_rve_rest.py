@@ -18,7 +18,7 @@ their C fits at 4.5): theirs and ours (the default model and two stiffer contact
 its own a, k / affine to four digits. The tables go into docs/validation.md ("What the shape
 of their response says", point 6).
 
-    .venv/bin/python benchmarks/paper_rve_rest.py [--control-points 68]
+    .venv/bin/python benchmarks/paper_rve_rest.py [--control-points 68] [--parabolic-only]
 
 About three minutes at 68 control points on the shared 2-core machine (2026-11-28).
 """
@@ -58,6 +58,8 @@ PARABOLIC_MODELS = {
     "free fibres (the default)": YarnSettings(),
     "free fibres, contact x1.5": YarnSettings(contact_stiffness_factor=0.015),
     "free fibres, contact x2": YarnSettings(contact_stiffness_factor=0.02),
+    "free fibres, frictionless": YarnSettings(friction=False),
+    "free fibres, contact at r0 (squeezed rest)": YarnSettings(contact_radius="measured"),
 }
 
 
@@ -77,7 +79,11 @@ def _row(stitch, model, stiffness, gradient, affine, digits=3):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--control-points", type=int, default=68)
+    parser.add_argument("--parabolic-only", action="store_true", help="only the last table")
     args = parser.parse_args()
+    if args.parabolic_only:
+        parabolic(args.control_points)
+        return
     print(
         "| stitch | model | C11 / C12 / C21 / C22 (gf/cm) | coupling | k (gf/cm/mm^2) "
         "| k / affine | rest C11, C22 (gf/cm) |\n|---:|---|---|---:|---:|---:|---|"
