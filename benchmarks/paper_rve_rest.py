@@ -60,6 +60,7 @@ PARABOLIC_MODELS = {
     "free fibres, contact x2": YarnSettings(contact_stiffness_factor=0.02),
     "free fibres, frictionless": YarnSettings(friction=False),
     "free fibres, contact at r0 (squeezed rest)": YarnSettings(contact_radius="measured"),
+    "free fibres, natural length the measured loop length": YarnSettings(natural_length="measured"),
 }
 
 
