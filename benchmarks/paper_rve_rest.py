@@ -61,6 +61,10 @@ PARABOLIC_MODELS = {
     "free fibres, frictionless": YarnSettings(friction=False),
     "free fibres, contact at r0 (squeezed rest)": YarnSettings(contact_radius="measured"),
     "free fibres, natural length the measured loop length": YarnSettings(natural_length="measured"),
+    "free fibres, exponent p - 0.25": YarnSettings(contact_exponent_shift=-0.25),
+    "free fibres, exponent p - 0.25, frictionless": YarnSettings(
+        contact_exponent_shift=-0.25, friction=False
+    ),
 }
 
 

@@ -110,6 +110,12 @@ VARIANTS = (
     Variant("free fibres, contact exponent p = 1", FIBRES, with_exponent(1.0)),
     Variant("free fibres, contact at r0 (squeezed rest)", {**FIBRES, "contact_radius": "measured"}),
     Variant("free fibres, parabolic loop", FIBRES, profile="parabolic"),
+    Variant("free fibres, exponent p - 0.25", {**FIBRES, "contact_exponent_shift": -0.25}),
+    Variant(
+        "free fibres, parabolic loop, exponent p - 0.25",
+        {**FIBRES, "contact_exponent_shift": -0.25},
+        profile="parabolic",
+    ),
     Variant(
         "free fibres, contact at r0 and x3",
         {**FIBRES, "contact_radius": "measured", "contact_stiffness_factor": 0.03},

@@ -279,6 +279,12 @@ TAUT_LOOP_FAST = {
     "6.5 parabolic theirs k / affine": Pin(0.011825906179374157, SOLVED, PAPER),
     "6.5 parabolic ours k / affine": Pin(0.002096788390727558, SOLVED, PAPER),
     "6.5 parabolic ours coupling": Pin(0.07935975870516535, SOLVED, PAPER),
+    # the parabolic loop with the contact exponent p - 0.25 (floored at 1), friction, at 68
+    # control points (YarnSettings.contact_exponent_shift)
+    "4.5 parabolic p - 0.25 ours k / affine": Pin(0.28227868596661226, SOLVED, PAPER),
+    "4.5 parabolic p - 0.25 ours coupling": Pin(0.9153183939096724, SOLVED, PAPER),
+    "6.5 parabolic p - 0.25 ours k / affine": Pin(0.009471974775923594, SOLVED, PAPER),
+    "6.5 parabolic p - 0.25 ours coupling": Pin(0.24468852845909672, SOLVED, PAPER),
 }
 
 DESIGN = "docs/design.md (the checks)"

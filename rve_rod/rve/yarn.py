@@ -27,7 +27,10 @@ From yarn (r0, E0, nu, mu) and knit (w) as design.md states it (Weeger et al.):
   curvature and twist s times the loop's (`RodModel.set_natural_curvature`): 1, the loop as
   built is stress-free; 0, a yarn that keeps no set, straight when free, bent into the loop and
   held there by its contacts (`rve_rod.rve.cell.LoopCell.rest_state`; docs/validation.md,
-  "Friction, a straight yarn, and the trade map").
+  "Friction, a straight yarn, and the trade map");
+* contact exponent shift (`YarnSettings.contact_exponent_shift`, dp, default 0): the law's
+  exponent p + dp, floored at 1, a contact stiffer (dp < 0) or softer at first touch
+  (docs/validation.md, point 6 of "What the shape of their response says").
 """
 
 import logging
@@ -35,7 +38,7 @@ from dataclasses import dataclass, replace
 from typing import NamedTuple
 
 from rve_rod.contact import CompressibleYarnLaw, CoulombFriction
-from rve_rod.contact.law import DEFAULT_STIFFNESS_FACTOR
+from rve_rod.contact.law import DEFAULT_STIFFNESS_FACTOR, MINIMUM_EXPONENT
 from rve_rod.errors import InputError, check_positive, check_range
 from rve_rod.geometry.loop import adjusted_radius
 from rve_rod.presets import Fabric
@@ -104,6 +107,10 @@ class YarnSettings:
         natural_curvature: s in [0, 1], the rods' stress-free curvature and twist as a
             fraction of the loop's (default 1: the loop as built is stress-free; 0: a
             naturally straight yarn).
+        contact_exponent_shift: dp in [-1, 1] added to the contact law's exponent p = 3 -
+            (r0/r)^3, floored at 1 (`law.MINIMUM_EXPONENT`; default 0: the paper's law). An
+            issue-27 experiment (docs/validation.md, point 6): a smaller p makes the law
+            stiffer at first touch.
     """
 
     second_moment: str = SOLID_CIRCLE
@@ -116,6 +123,7 @@ class YarnSettings:
     prestrain: float = 0.0
     natural_length: str = "template"
     natural_curvature: float = 1.0
+    contact_exponent_shift: float = 0.0
 
     def __post_init__(self):
         if self.second_moment not in (SOLID_CIRCLE, PAPER_CIRCLE):
@@ -137,6 +145,7 @@ class YarnSettings:
             )
         check_range("prestrain", self.prestrain, 0.0, PRESTRAIN_LIMIT)
         check_range("natural_curvature", self.natural_curvature, 0.0, 1.0)
+        check_range("contact_exponent_shift", self.contact_exponent_shift, -1.0, 1.0)
         if self.natural_length not in NATURAL_LENGTHS:
             raise InputError(
                 f"natural_length={self.natural_length!r} is unknown; valid: "
@@ -193,6 +202,9 @@ def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnM
         youngs_modulus=yarn.youngs_modulus,
         stiffness_factor=settings.contact_stiffness_factor,
     )
+    if settings.contact_exponent_shift:
+        shifted = law.exponent + settings.contact_exponent_shift
+        law = replace(law, exponent=max(shifted, MINIMUM_EXPONENT))
     if settings.contact_radius == "measured":
         law = replace(law, yarn_radius=r0)
     section = SectionStiffness.circular(
