@@ -14,8 +14,9 @@ does not fit the form with our a). Then, per stitch value, their C split with th
 gradient of each of our loop profiles (`OUT_OF_PLANE_PROFILES`: the model's "band" and the
 issue-14 experiment's literature shapes): a1 / a2 and their rest (a negative rest: their C
 does not fit that loop). Last, the same split on the parabolic loop (the one whose gradient
-their C fits at 4.5): theirs and ours (the default model and two stiffer contacts) split with
-its own a, k / affine to four digits. The tables go into docs/validation.md ("What the shape
+their C fits at 4.5): theirs and ours (the default model and the variants of
+`PARABOLIC_MODELS`: stiffer contacts, no friction, the pre-loaded rests, the exponent shift)
+split with its own a, k / affine to four digits. The tables go into docs/validation.md ("What the shape
 of their response says", point 6).
 
     .venv/bin/python benchmarks/paper_rve_rest.py [--control-points 68] [--parabolic-only]
