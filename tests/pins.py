@@ -19,6 +19,7 @@ Who checks what:
   PAPER_COMPARISON_FAST: tests/test_rve_rod/regression/test_pinned_paper_comparison.py
   TAUT_LOOP_FAST: tests/test_rve_rod/regression/test_pinned_taut_loop.py
   PATTERNS, PATTERN_RUNS, PATTERN_MOMENTS: tests/test_rve_rod/regression/test_pinned_patterns.py
+  PATTERN_CUT: tests/test_rve_rod/verification/test_rve_cut.py
 
 Every value was measured on the shared 2-core machine at commit 3172971 (version 0.2.1, loop
 model 0.2) with Debian 12's numpy 1.24, scipy, numba 0.56 and DOLFINx 0.5.2, the way the test
@@ -338,6 +339,11 @@ PATTERN_MOMENTS = {  # gf cm / cm, measured at the commit that added them (the c
     "jersey wale M11 20 %": Pin(-0.3669040521131767, SOLVED, PATTERNS_DOC),
     "jersey wale M22 20 %": Pin(0.1814166932061109, SOLVED, PATTERNS_DOC),
 }
+PATTERN_CUT = {  # gf/cm, 36 control points, friction, 10 % in 2 steps
+    "rib1x1 wale force 10 % cut 0.75": Pin(2.233609650228461, SOLVED, PATTERNS_DOC),
+    "rib1x1 wale force 10 % cut 1.0": Pin(2.374211752751024, SOLVED, PATTERNS_DOC),
+    "rib1x1 wale force 10 % cut 1.25": Pin(2.7147798163073382, SOLVED, PATTERNS_DOC),
+}
 
 TABLES = {
     "RVE_FAST": RVE_FAST,
@@ -357,6 +363,7 @@ TABLES = {
     "PATTERNS": PATTERNS,
     "PATTERN_RUNS": PATTERN_RUNS,
     "PATTERN_MOMENTS": PATTERN_MOMENTS,
+    "PATTERN_CUT": PATTERN_CUT,
 }
 
 
