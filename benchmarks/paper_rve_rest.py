@@ -16,8 +16,8 @@ issue-14 experiment's literature shapes): a1 / a2 and their rest (a negative res
 does not fit that loop). Last, the same split on the parabolic loop (the one whose gradient
 their C fits at 4.5): theirs and ours (the default model and the variants of
 `PARABOLIC_MODELS`: stiffer contacts, no friction, the pre-loaded rests, the exponent shift)
-split with its own a, k / affine to four digits. The tables go into docs/validation.md ("What the shape
-of their response says", point 6).
+split with its own a, k / affine to four digits. The tables go into docs/validation.md ("What
+the shape of their response says", point 6).
 
     .venv/bin/python benchmarks/paper_rve_rest.py [--control-points 68] [--parabolic-only]
 
