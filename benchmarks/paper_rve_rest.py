@@ -33,13 +33,12 @@ from rve_rod.geometry.loop import OUT_OF_PLANE_PROFILES, loop_length_gradient, s
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.paper_comparison import (
-    AXIS_RAYS,
+    axis_rays,
     compare_run,
     loop_profile_runner,
     secant_at_rest,
     taut_loop_split,
 )
-from rve_rod.rve.paper_data import biaxial_rays
 from rve_rod.rve.simulation import RveSettings
 from rve_rod.rve.yarn import YarnSettings, yarn_model
 from rve_rod.units import n_per_mm_to_gf_per_cm
@@ -99,9 +98,8 @@ def main():
         w, c = fabric.knit.wale_width, fabric.knit.course_height
         loop = single_jersey_loop(w, c, fabric.yarn.minimal_radius)
         gradient = loop_length_gradient(w, c, loop.yarn_radius)
-        rays = biaxial_rays(stitch)
-        axes = [min(rays, key=lambda ray, a=a: abs(ray.angle_deg - a)) for a in AXIS_RAYS]
-        theirs = secant_at_rest(axes, [np.diagonal(ray.second_piola[0]) for ray in axes])
+        axes = axis_rays(stitch)
+        theirs = secant_at_rest(axes)
         yarn = yarn_model(fabric)
         affine = yarn.section.axial / (loop.loop_length * w * c)
         print(
@@ -129,9 +127,8 @@ def profiles():
     for stitch in STITCHES:
         fabric = load_preset("cotton-20s2", stitch)
         w, c = fabric.knit.wale_width, fabric.knit.course_height
-        rays = biaxial_rays(stitch)
-        axes = [min(rays, key=lambda ray, a=a: abs(ray.angle_deg - a)) for a in AXIS_RAYS]
-        theirs = secant_at_rest(axes, [np.diagonal(ray.second_piola[0]) for ray in axes])
+        axes = axis_rays(stitch)
+        theirs = secant_at_rest(axes)
         for profile in OUT_OF_PLANE_PROFILES:
             loop = single_jersey_loop(w, c, fabric.yarn.minimal_radius, profile=profile)
             gradient = loop_length_gradient(w, c, loop.yarn_radius, profile=profile)
@@ -153,9 +150,8 @@ def parabolic(control_points: int):
         loop = single_jersey_loop(w, c, fabric.yarn.minimal_radius, profile="parabolic")
         gradient = loop_length_gradient(w, c, loop.yarn_radius, profile="parabolic")
         affine = yarn_model(fabric).section.axial / (loop.loop_length * w * c)
-        rays = biaxial_rays(stitch)
-        axes = [min(rays, key=lambda ray, a=a: abs(ray.angle_deg - a)) for a in AXIS_RAYS]
-        theirs = secant_at_rest(axes, [np.diagonal(ray.second_piola[0]) for ray in axes])
+        axes = axis_rays(stitch)
+        theirs = secant_at_rest(axes)
         _row(stitch, "theirs", theirs, gradient, affine, digits=4)
         for name, yarn_settings in PARABOLIC_MODELS.items():
             started = time.perf_counter()

@@ -36,7 +36,7 @@ from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import BiaxialRay
 from rve_rod.rve.paper_comparison import (
-    AXIS_RAYS,
+    axis_rays,
     compare_run,
     run_case,
     run_or_history,
@@ -69,11 +69,10 @@ def measure(stitch: float, prestrain: float, yarn: dict, control_points: int, lu
     )
     statistics = cell.coupling.result(rest, 0.0, tangent=False).statistics
     squeeze = 2.0 * (cell.yarn.law.yarn_radius - cell.yarn.radius)
-    rays = [min(biaxial_rays(stitch), key=lambda ray: abs(ray.angle_deg - a)) for a in AXIS_RAYS]
+    rays = axis_rays(stitch)
     ours = [
         np.diagonal(compare_run(fabric, ray, settings, states=1).second_piola[0]) for ray in rays
     ]
-    theirs = [np.diagonal(ray.second_piola[0]) for ray in rays]
     axial = cell.yarn.section.axial
     return {
         "held": axial * prestrain / (1.0 + prestrain),
@@ -81,7 +80,7 @@ def measure(stitch: float, prestrain: float, yarn: dict, control_points: int, lu
         "penetration": (statistics.max_penetration - squeeze) / cell.yarn.radius,
         "rest": gf(np.diagonal(cell.rest_stress)),
         "ours": gf(secant_at_rest(rays, np.array(ours))),
-        "theirs": gf(secant_at_rest(rays, np.array(theirs))),
+        "theirs": gf(secant_at_rest(rays)),
     }
 
 

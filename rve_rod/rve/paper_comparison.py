@@ -13,7 +13,7 @@ got (the rest is NaN and counts as a failure).
 
 `uniaxial_comparison(fabric, settings)` gives our uniaxial course- and wale-wise forces and
 Poisson ratios at the strains of `paper_data.UNIAXIAL_READINGS`; `secant_at_rest` the secant
-stiffness at rest through the first states of their two rays nearest the axes (`AXIS_RAYS`);
+stiffness at rest through the first states of their two rays nearest the axes (`axis_rays`);
 `first_increment_ratio` whether a ray starts slack (and stiffens) or taut; `taut_loop_split`
 how much of a stiffness at rest runs through the length of the loop; `loop_profile_runner` any
 of these on a loop of another out-of-plane profile.
@@ -30,7 +30,7 @@ from rve_rod.errors import ConvergenceError, InputError
 from rve_rod.geometry.loop import single_jersey_loop
 from rve_rod.presets import Fabric
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase, PictureFrameShear, load_case
-from rve_rod.rve.paper_data import GroupRun
+from rve_rod.rve.paper_data import GroupRun, biaxial_rays
 from rve_rod.rve.simulation import RveResult, RveSettings, simulate
 from rve_rod.stress_measures import green_lagrange
 
@@ -40,6 +40,7 @@ __all__ = [
     "RunComparison",
     "TautLoopSplit",
     "UniaxialComparison",
+    "axis_rays",
     "compare_run",
     "first_increment_ratio",
     "loop_profile_runner",
@@ -225,10 +226,19 @@ def _symmetric(tensors: np.ndarray) -> np.ndarray:
     return 0.5 * (tensors + np.swapaxes(tensors, -1, -2))
 
 
-def secant_at_rest(rays: list[GroupRun], stresses: np.ndarray) -> np.ndarray:
+def axis_rays(stitch: float) -> list[GroupRun]:
+    """Their two rays at `stitch` nearest the course and the wale axis (`AXIS_RAYS`)."""
+    rays = biaxial_rays(stitch)
+    return [min(rays, key=lambda ray, a=a: abs(ray.angle_deg - a)) for a in AXIS_RAYS]
+
+
+def secant_at_rest(rays: list[GroupRun], stresses: np.ndarray | None = None) -> np.ndarray:
     """(2, 2) C of (S11, S22) = C (E11, E22) through the first states of two rays (their Green-
-    Lagrange strains), given the (2,) diagonal stresses S (N/mm) there, one row per ray."""
+    Lagrange strains), given the (2,) diagonal stresses S (N/mm) there, one row per ray; by
+    default their own first states' (their stiffness at rest)."""
     strains = np.array([np.diagonal(green_lagrange(ray.deformation[0])) for ray in rays])
+    if stresses is None:
+        stresses = [np.diagonal(ray.second_piola[0]) for ray in rays]
     return np.linalg.solve(strains, np.asarray(stresses)).T
 
 

@@ -12,13 +12,12 @@ from rve_rod.geometry.loop import loop_length_gradient, single_jersey_loop
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.paper_comparison import (
-    AXIS_RAYS,
+    axis_rays,
     compare_run,
     loop_profile_runner,
     secant_at_rest,
     taut_loop_split,
 )
-from rve_rod.rve.paper_data import biaxial_rays
 from rve_rod.rve.simulation import RveSettings
 from rve_rod.rve.yarn import YarnSettings, yarn_model
 
@@ -33,9 +32,8 @@ def _splits(stitch, profile, runner=None, settings=SETTINGS):
     loop = single_jersey_loop(w, c, fabric.yarn.minimal_radius, profile=profile)
     gradient = loop_length_gradient(w, c, loop.yarn_radius, profile=profile)
     affine = yarn_model(fabric).section.axial / (loop.loop_length * w * c)
-    rays = biaxial_rays(stitch)
-    axes = [min(rays, key=lambda ray, a=a: abs(ray.angle_deg - a)) for a in AXIS_RAYS]
-    theirs = secant_at_rest(axes, [np.diagonal(ray.second_piola[0]) for ray in axes])
+    axes = axis_rays(stitch)
+    theirs = secant_at_rest(axes)
     first = [
         compare_run(fabric, ray, settings, states=1, runner=runner).second_piola[0] for ray in axes
     ]

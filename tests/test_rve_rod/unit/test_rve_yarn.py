@@ -72,17 +72,15 @@ def test_bad_settings_are_refused():
 
 
 def test_the_contact_exponent_shift_moves_p_and_stops_at_one():
-    """p = 3 - (r0/r)^3 + dp, floored at 1; the law's stiffness k is not touched."""
-    for stitch in (4.5, 6.5):
+    """p = 3 - (r0/r)^3 + dp, floored at 1 (stitch 4.5: p = 1.24 - 0.25 < 1), shifted where it
+    stays above (6.5: 1.75 - 0.25); the law's stiffness k is not touched."""
+    for stitch, expected in ((4.5, 1.0), (6.5, 3.0 - (0.19 / (1.41 / 8)) ** 3 - 0.25)):
         fabric = load_preset("cotton-20s2", stitch)
-        p = 3.0 - (0.19 / (fabric.knit.wale_width / 8)) ** 3
         paper = yarn_model(fabric).law
         shifted = yarn_model(fabric, YarnSettings(contact_exponent_shift=-0.25)).law
-        assert paper.exponent == pytest.approx(p, rel=1e-12)
-        assert shifted.exponent == pytest.approx(max(p - 0.25, 1.0), rel=1e-12)
+        assert paper.exponent == pytest.approx(3.0 - (0.19 / (fabric.knit.wale_width / 8)) ** 3)
+        assert shifted.exponent == pytest.approx(expected, rel=1e-12)
         assert shifted.stiffness == paper.stiffness
-    assert p - 0.25 > 1.0  # 6.5: shifted
-    assert 3.0 - (0.19 / (1.26 / 8)) ** 3 - 0.25 < 1.0  # 4.5: floored
 
 
 def test_free_fibre_bending_sums_the_cotton_fibres_with_the_pre_tension_scaling():
