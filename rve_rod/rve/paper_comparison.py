@@ -16,7 +16,8 @@ Poisson ratios at the strains of `paper_data.UNIAXIAL_READINGS`; `secant_at_rest
 stiffness at rest through the first states of their two rays nearest the axes (`axis_rays`);
 `first_increment_ratio` whether a ray starts slack (and stiffens) or taut; `taut_loop_split`
 how much of a stiffness at rest runs through the length of the loop; `loop_profile_runner` any
-of these on a loop of another out-of-plane profile.
+of these on a loop of another out-of-plane profile; `loop_extents` the depth and the lengths of
+a run's deformed loop.
 """
 
 import time
@@ -37,12 +38,14 @@ from rve_rod.stress_measures import green_lagrange
 __all__ = [
     "AXIS_RAYS",
     "TARGET",
+    "LoopExtent",
     "RunComparison",
     "TautLoopSplit",
     "UniaxialComparison",
     "axis_rays",
     "compare_run",
     "first_increment_ratio",
+    "loop_extents",
     "loop_profile_runner",
     "run_case",
     "run_or_history",
@@ -287,3 +290,33 @@ def taut_loop_split(stiffness: np.ndarray, gradient: np.ndarray) -> TautLoopSpli
     product = c[0, 1] * c[1, 0]
     k = float(np.sqrt(max(product, 0.0)) / (a[0] * a[1]))
     return TautLoopSplit(k, np.diagonal(c) - k * a**2, float(product / (c[0, 0] * c[1, 1])))
+
+
+class LoopExtent(NamedTuple):
+    """Where the yarn of a run's cell lies, one value per output state (mm, shape (s,) each).
+
+    Attributes:
+        depth: the centreline's extent through the thickness, max z - min z (the template's
+            depth d at rest).
+        in_plane_length: the length of the centreline's projection on the fabric's plane.
+        length: the centreline's length (the yarn's stretch is length / length[0] - 1).
+    """
+
+    depth: np.ndarray
+    in_plane_length: np.ndarray
+    length: np.ndarray
+
+
+def loop_extents(result: RveResult, samples: int = 4001) -> LoopExtent:
+    """The depth and the lengths of the first patch's deformed centreline at each output state
+    of `result`, from `samples` points evenly spaced in its parameter (`LoopExtent`): where
+    the yarn a stretch needs comes from (docs/validation.md, "The bulge")."""
+    depth, in_plane, length = (np.empty(len(result.steps)) for _ in range(3))
+    for step in range(len(result.steps)):
+        curve = result.centreline(step)
+        points = curve(np.linspace(*curve.domain, samples))
+        chords = np.diff(points, axis=0)
+        depth[step] = np.ptp(points[:, 2])
+        in_plane[step] = np.linalg.norm(chords[:, :2], axis=1).sum()
+        length[step] = np.linalg.norm(chords, axis=1).sum()
+    return LoopExtent(depth, in_plane, length)

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from rve_rod.errors import InputError
+from rve_rod.geometry.loop import single_jersey_loop
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.paper_comparison import (
@@ -11,7 +12,9 @@ from rve_rod.rve.paper_comparison import (
     axis_rays,
     compare_run,
     first_increment_ratio,
+    loop_extents,
     loop_profile_runner,
+    run_case,
     secant_at_rest,
     taut_loop_split,
 )
@@ -143,3 +146,22 @@ def test_the_loop_profile_runner_runs_the_loop_of_that_profile():
     np.testing.assert_array_equal(band.second_piola, default)
     assert np.all(np.isfinite(parabolic))
     assert abs(parabolic[0, 0, 0] / default[0, 0, 0] - 1) > 0.1
+
+
+@pytest.mark.parametrize("profile", ["band", "parabolic"])
+def test_the_loop_extents_at_rest_are_the_templates_depth_and_length(profile):
+    """At rest the deformed loop is the template: its extent through the thickness is the
+    depth d of the clearance search (legs at +d/2, head apex at -d/2) and its length the loop
+    length, both up to the B-spline fit; the projection is shorter than the yarn."""
+    fabric = load_preset("cotton-20s2", 5.5)
+    knit = fabric.knit
+    loop = single_jersey_loop(
+        knit.wale_width, knit.course_height, fabric.yarn.minimal_radius, profile=profile
+    )
+    settings = RveSettings(cell=CellSettings(control_points=20))
+    result = loop_profile_runner(profile)(fabric, run_case(axis_rays(5.5)[0], 1), settings)
+    extent = loop_extents(result)
+    assert extent.depth.shape == extent.length.shape == (len(result.steps),)
+    assert extent.depth[0] == pytest.approx(loop.depth, rel=0.02)
+    assert extent.length[0] == pytest.approx(loop.loop_length, rel=0.005)
+    assert np.all(extent.in_plane_length < extent.length)

@@ -1,0 +1,183 @@
+"""Where the yarn of a course-wise stretch comes from: the bulge of the soft loop (issue 27).
+
+For cotton 20s/2 at stitch 4.5, 5.5 and 6.5, along the paper group's ray nearest the course
+axis (6.4 degrees: E22 about E11 / 9), run to their last converged state: the loop's depth
+(the centreline's extent through the thickness) and its in-plane length
+(`paper_comparison.loop_extents`) at rest, at the first state (E11 = 0.024) and at the last
+(E11 = 0.21), with S11, S22 there, ours and theirs (gf/cm), for the models of `BULGE_MODELS`
+(free fibres or the section's rigidity, on the model's band loop or the parabolic loop, with the
+contact exponent shift). A soft loop bulges out of the plane at the first state (its depth
+grows by half, its in-plane length falls by 2-3 %, its contacts are pressed by a third of r)
+and the rest of the ray pulls the bulge flat: that is the yarn the stretch takes without
+stretching the loop, so the cell gives way after its first state.
+
+Then `--radius`: the loop that does not bulge (the section's rigidity, parabolic loop) with the
+contact law's and the section scaling's radius r0 (`Yarn.minimal_radius`, 0.19 mm in the
+presets: the smaller semi-axis of the elliptical yarn) raised to RADII, along both of their
+rays nearest the axes: S11, S22 ours / theirs at the first, middle and last converged state,
+and S12 of their picture-frame shear at its 5th and 13th state.
+r0 enters the law k = 0.01 E0 (r0/r)^8, p = 3 - (r0/r)^3 and the section's scaling (r0/r)^4,
+(r0/r)^6; the loop (r = w/8) does not change. At 4.5, r0 >= 0.2 mm gives p < 1 (refused).
+
+    .venv/bin/python benchmarks/paper_rve_bulge.py [--radius] [--control-points 68]
+
+About a minute (the depth table) and two minutes (--radius) at 68 control points on the shared
+2-core machine (2026-11-28). The tables go into docs/validation.md ("The bulge").
+"""
+
+import argparse
+import dataclasses
+import time
+
+import numpy as np
+
+from rve_rod.errors import InputError
+from rve_rod.presets import load_preset
+from rve_rod.rve.cell import CellSettings
+from rve_rod.rve.paper_comparison import (
+    axis_rays,
+    compare_run,
+    loop_extents,
+    loop_profile_runner,
+    run_case,
+)
+from rve_rod.rve.paper_data import shear_run
+from rve_rod.rve.simulation import RveSettings
+from rve_rod.rve.yarn import YarnSettings
+from rve_rod.stress_measures import green_lagrange
+from rve_rod.units import n_per_mm_to_gf_per_cm
+
+STITCHES = (4.5, 5.5, 6.5)
+BULGE_MODELS = {
+    "free fibres (the default), band loop": ("band", YarnSettings()),
+    "section, band loop": ("band", YarnSettings(bending="section")),
+    "free fibres, parabolic loop": ("parabolic", YarnSettings()),
+    "free fibres, parabolic loop, p - 0.25": (
+        "parabolic",
+        YarnSettings(contact_exponent_shift=-0.25),
+    ),
+    "free fibres, parabolic loop, p - 0.25, frictionless": (
+        "parabolic",
+        YarnSettings(contact_exponent_shift=-0.25, friction=False),
+    ),
+    "section, parabolic loop": ("parabolic", YarnSettings(bending="section")),
+    "section, parabolic loop, p - 0.25": (
+        "parabolic",
+        YarnSettings(bending="section", contact_exponent_shift=-0.25),
+    ),
+}
+SHEAR_STATES = (4, 12)
+"""Indices of the picture-frame states whose S12 the --radius table prints."""
+RADII = (0.19, 0.198, 0.205)
+"""r0 (mm) of the --radius table: the presets' 0.19 and two larger equivalent radii."""
+
+
+def _gf(value: float) -> str:
+    return f"{n_per_mm_to_gf_per_cm(value):.1f}"
+
+
+def depth_table(control_points: int) -> None:
+    print(
+        "| model | stitch | depth at rest (mm) | depth, first / last state (x rest) | in-plane "
+        "length, first / last (%) | yarn stretch, last (%) | largest penetration / r, first "
+        "/ last | S11 first / last, ours (theirs) | S22 first / last, ours (theirs) |"
+    )
+    print("|---|---:|---:|---:|---:|---:|---:|---|---|")
+    for name, (profile, yarn) in BULGE_MODELS.items():
+        for stitch in STITCHES:
+            fabric = load_preset("cotton-20s2", stitch)
+            ray = axis_rays(stitch)[0]
+            states = ray.converged
+            settings = RveSettings(cell=CellSettings(control_points=control_points), yarn=yarn)
+            result = loop_profile_runner(profile)(fabric, run_case(ray, states), settings)
+            if len(result.steps) <= states:
+                print(f"| {name} | {stitch} | stopped: {result.message} |")
+                continue
+            extent = loop_extents(result)
+            first, last = result.steps[1], result.steps[-1]
+            depth = extent.depth / extent.depth[0]
+            in_plane = 100 * (extent.in_plane_length / extent.in_plane_length[0] - 1)
+            stretch = 100 * (extent.length[-1] / extent.length[0] - 1)
+            r = result.yarn.radius
+            print(
+                f"| {name} | {stitch} | {extent.depth[0]:.3f} | {depth[1]:.2f} / {depth[-1]:.2f} "
+                f"| {in_plane[1]:+.1f} / {in_plane[-1]:+.1f} | {stretch:.2f} | "
+                f"{first.max_penetration / r:.2f} / {last.max_penetration / r:.2f} | "
+                f"{_gf(first.second_piola[0])} / {_gf(last.second_piola[0])} "
+                f"({_gf(ray.second_piola[0, 0, 0])} / {_gf(ray.second_piola[states - 1, 0, 0])}) | "
+                f"{_gf(first.second_piola[1])} / {_gf(last.second_piola[1])} "
+                f"({_gf(ray.second_piola[0, 1, 1])} / {_gf(ray.second_piola[states - 1, 1, 1])}) |",
+                flush=True,
+            )
+
+
+def radius_table(control_points: int) -> None:
+    print(
+        "| r0 (mm) | stitch | ray (deg) | E11, E22 at first / middle / last | S11 ours (theirs) "
+        "| S22 ours (theirs) |"
+    )
+    print("|---:|---:|---:|---|---|---|")
+    runner = loop_profile_runner("parabolic")
+    settings = RveSettings(
+        cell=CellSettings(control_points=control_points), yarn=YarnSettings(bending="section")
+    )
+    for radius in RADII:
+        for stitch in STITCHES:
+            preset = load_preset("cotton-20s2", stitch)
+            yarn = dataclasses.replace(preset.yarn, minimal_radius=radius)
+            fabric = dataclasses.replace(preset, yarn=yarn)
+            for ray in [*axis_rays(stitch), shear_run(stitch)]:
+                try:
+                    run = compare_run(fabric, ray, settings, runner=runner)
+                except InputError as error:
+                    reason = str(error).split(";")[0]
+                    label = "shear" if ray.kind == "shear" else f"{ray.angle_deg:.1f}"
+                    print(f"| {radius} | {stitch} | {label} | refused: {reason} |")
+                    continue
+                if ray.kind == "shear":
+                    print(f"| {radius} | {stitch} | shear | {_shear_cells(run)} |", flush=True)
+                    continue
+                picks = sorted({0, (run.states - 1) // 2, run.states - 1})
+                strains = [np.diagonal(green_lagrange(ray.deformation[k])) for k in picks]
+                ours, theirs = run.second_piola[picks], ray.second_piola[picks]
+                cells = [
+                    " / ".join(f"{_gf(o[a, a])}" for o in ours)
+                    + " ("
+                    + " / ".join(f"{_gf(t[a, a])}" for t in theirs)
+                    + ")"
+                    for a in (0, 1)
+                ]
+                print(
+                    f"| {radius} | {stitch} | {ray.angle_deg:.1f} | "
+                    + " / ".join(f"{e[0]:.3f}, {e[1]:.3f}" for e in strains)
+                    + f" | {cells[0]} | {cells[1]} |",
+                    flush=True,
+                )
+
+
+def _shear_cells(run) -> str:
+    """S12 (the symmetric part, gf/cm) ours (theirs) at SHEAR_STATES of the picture frame."""
+    picks = [k for k in SHEAR_STATES if k < run.reached]
+
+    def s12(stresses):
+        return " / ".join(_gf(0.5 * (stresses[k, 0, 1] + stresses[k, 1, 0])) for k in picks)
+
+    frame = run.reference.deformation
+    angles = ", ".join(
+        f"{np.degrees(np.arctan2(frame[k, 0, 1], frame[k, 1, 1])):.0f}" for k in picks
+    )
+    return f"at {angles} deg: {s12(run.second_piola)} ({s12(run.reference.second_piola)})"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--control-points", type=int, default=68)
+    parser.add_argument("--radius", action="store_true", help="the r0 table instead")
+    args = parser.parse_args()
+    start = time.perf_counter()
+    (radius_table if args.radius else depth_table)(args.control_points)
+    print(f"\n{time.perf_counter() - start:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
