@@ -86,13 +86,6 @@ def with_friction(
     return change
 
 
-def section_torsion(yarn: YarnModel, fabric: Fabric) -> YarnModel:
-    """The yarn with the solid section's torsional rigidity G_C J (the paper's) in place of
-    its fibres' (the bending stays the fibres')."""
-    torsion = yarn_model(fabric, YarnSettings(bending="section")).section.torsion
-    return yarn._replace(section=dataclasses.replace(yarn.section, torsion=torsion))
-
-
 SECTION = {"bending": "section"}
 FIBRES = {"bending": "free-fibres"}
 VARIANTS = (
@@ -156,7 +149,33 @@ VARIANTS = (
         "free fibres, contact at r0, stick stiffness k_t = k / 100",
         {**FIBRES, "contact_radius": "measured", "friction_stiffness_ratio": 0.01},
     ),
-    Variant("free fibres bending, the section's torsion", FIBRES, section_torsion),
+    Variant("free fibres bending, the section's torsion", {**FIBRES, "torsion": "section"}),
+    Variant("section bending, the fibres' torsion", {**SECTION, "torsion": "free-fibres"}),
+    Variant(
+        "section bending, the fibres' torsion, parabolic loop",
+        {**SECTION, "torsion": "free-fibres"},
+        profile="parabolic",
+    ),
+    Variant(
+        "section bending, the fibres' torsion, parabolic loop, exponent p - 0.25",
+        {**SECTION, "contact_exponent_shift": -0.25, "torsion": "free-fibres"},
+        profile="parabolic",
+    ),
+    Variant(
+        "section I = pi r^4/12, the fibres' torsion, parabolic loop",
+        {**SECTION, "second_moment": "paper", "torsion": "free-fibres"},
+        profile="parabolic",
+    ),
+    Variant(
+        "section I = pi r^4/12, the fibres' torsion, parabolic loop, exponent p - 0.25",
+        {
+            **SECTION,
+            "second_moment": "paper",
+            "contact_exponent_shift": -0.25,
+            "torsion": "free-fibres",
+        },
+        profile="parabolic",
+    ),
     *(
         Variant(
             f"free fibres, frictionless, prestrain eps0 = {100 * eps0:g} %",

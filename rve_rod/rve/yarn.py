@@ -30,7 +30,10 @@ From yarn (r0, E0, nu, mu) and knit (w) as design.md states it (Weeger et al.):
   "Friction, a straight yarn, and the trade map");
 * contact exponent shift (`YarnSettings.contact_exponent_shift`, dp, default 0): the law's
   exponent p + dp, floored at 1, a contact stiffer (dp < 0) or softer at first touch
-  (docs/validation.md, point 6 of "What the shape of their response says").
+  (docs/validation.md, point 6 of "What the shape of their response says");
+* torsion apart from bending (`YarnSettings.torsion`, default "bending": the bending model's):
+  the twisting rigidity of the other model of BENDING_MODELS, e.g. the section's bending
+  with its fibres' torsion (docs/validation.md, "The shear is the torsion's").
 """
 
 import logging
@@ -51,6 +54,7 @@ __all__ = [
     "CONTACT_RADII",
     "NATURAL_LENGTHS",
     "PRESTRAIN_LIMIT",
+    "TORSION_CHOICES",
     "YarnModel",
     "YarnSettings",
     "bending_model",
@@ -83,6 +87,10 @@ natural length l / (1 + eps0): the rod's prestrain is then (1 + eps0) L / l - 1,
 the template holds more yarn than the fabric (`rve_rod.rve.cell.LoopCell.prestrain`)."""
 
 
+TORSION_CHOICES = ("bending", *BENDING_MODELS)
+"""The rods' twisting rigidity: "bending" (the default), the bending model's (E_C I's G_C J,
+or the fibres' torsion with their bending); or a model of BENDING_MODELS of its own."""
+
 PRESTRAIN_LIMIT = 0.2
 """Largest yarn prestrain eps0 accepted (-); the experiments of docs/validation.md ("The taut
 loop") go to 0.08."""
@@ -111,6 +119,8 @@ class YarnSettings:
             (r0/r)^3, floored at 1 (`law.MINIMUM_EXPONENT`; default 0: the paper's law). An
             issue-27 experiment (docs/validation.md, point 6): a smaller p makes the law
             stiffer at first touch.
+        torsion: one of TORSION_CHOICES (default "bending"). An issue-27 experiment
+            (docs/validation.md, "The shear is the torsion's").
     """
 
     second_moment: str = SOLID_CIRCLE
@@ -124,6 +134,7 @@ class YarnSettings:
     natural_length: str = "template"
     natural_curvature: float = 1.0
     contact_exponent_shift: float = 0.0
+    torsion: str = "bending"
 
     def __post_init__(self):
         if self.second_moment not in (SOLID_CIRCLE, PAPER_CIRCLE):
@@ -137,6 +148,10 @@ class YarnSettings:
         if self.bending not in BENDING_CHOICES:
             raise InputError(
                 f"bending={self.bending!r} is unknown; valid: {', '.join(BENDING_CHOICES)}"
+            )
+        if self.torsion not in TORSION_CHOICES:
+            raise InputError(
+                f"torsion={self.torsion!r} is unknown; valid: {', '.join(TORSION_CHOICES)}"
             )
         if self.contact_radius not in CONTACT_RADII:
             raise InputError(
@@ -207,15 +222,20 @@ def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnM
         law = replace(law, exponent=max(shifted, MINIMUM_EXPONENT))
     if settings.contact_radius == "measured":
         law = replace(law, yarn_radius=r0)
-    section = SectionStiffness.circular(
+    solid = SectionStiffness.circular(
         r,
         yarn.youngs_modulus,
         rotational_modulus=settings.rotational_modulus_factor * yarn.youngs_modulus,
         poissons_ratio=yarn.poissons_ratio,
         second_moment=settings.second_moment,
     ).scaled(translational=ratio**4, rotational=ratio**6)
-    if bending_model(fabric, settings.bending) == "free-fibres":
-        section = _free_fibre_section(section, fabric, ratio)
+    bending = bending_model(fabric, settings.bending)
+    torsion = bending if settings.torsion == "bending" else settings.torsion
+    sections = {"section": solid}
+    for model in {bending, torsion} - {"section"}:
+        check_bending(fabric, model, "torsion" if model != bending else "bending")
+        sections[model] = _free_fibre_section(solid, fabric, ratio)
+    section = replace(sections[bending], torsion=sections[torsion].torsion)
     friction = None
     if settings.friction and yarn.friction_coefficient > 0.0:
         friction = CoulombFriction.for_law(
@@ -253,12 +273,13 @@ def bending_model(fabric: Fabric, bending: str, *, report: bool = False) -> str:
     return "section"
 
 
-def check_bending(fabric: Fabric, bending: str) -> None:
+def check_bending(fabric: Fabric, bending: str, name: str = "bending") -> None:
     """Raise InputError unless `bending` (one of BENDING_MODELS; `YarnSettings` checks the
-    name) can model `fabric`'s yarn: "free-fibres" needs the yarn's fibre data."""
+    name), given as setting `name`, can model `fabric`'s yarn: "free-fibres" needs the yarn's
+    fibre data."""
     if bending == "free-fibres" and fabric.yarn.fibres is None:
         raise InputError(
-            f"bending='free-fibres' needs the yarn's fibres (linear densities, specific "
+            f"{name}='free-fibres' needs the yarn's fibres (linear densities, specific "
             f"rigidities); yarn {fabric.yarn.name or '(given by values)'} has none; presets "
             "with fibre data: cotton-20s2"
         )
@@ -266,8 +287,7 @@ def check_bending(fabric: Fabric, bending: str) -> None:
 
 def _free_fibre_section(section: SectionStiffness, fabric: Fabric, ratio: float):
     """`section` with C from the yarn's fibres (bending and torsion), times the pre-tension
-    scaling (r0/r)^2 of the paper's model."""
-    check_bending(fabric, "free-fibres")
+    scaling (r0/r)^2 of the paper's model; the fibre data checked by the caller."""
     fibres = fabric.yarn.fibres
     bending, torsion = (
         free_fibre_rigidity(rigidity, fibres.fibre_linear_density, fibres.yarn_linear_density)

@@ -1,5 +1,6 @@
 """The paper's yarn model: adjusted radius, stiffness scalings and contact laws from the presets."""
 
+import dataclasses
 import math
 
 import pytest
@@ -107,6 +108,26 @@ def test_free_fibre_bending_needs_fibre_data_and_no_second_moment():
             YarnSettings(bending=bending, second_moment="paper")
     with pytest.raises(InputError, match="bending='rope' is unknown"):
         YarnSettings(bending="rope")
+
+
+def test_the_torsion_apart_from_the_bending_swaps_only_the_twisting_rigidity():
+    """torsion="bending" is the bending model's section to the bit; the other model's torsion
+    replaces G_C J (or the fibres') and leaves A and the bending untouched; fibre torsion needs
+    fibre data, and the setting is named when it is missing or unknown."""
+    fabric = load_preset("cotton-20s2", 5.5)
+    for bending in ("section", "free-fibres"):
+        own = yarn_model(fabric, YarnSettings(bending=bending)).section
+        assert yarn_model(fabric, YarnSettings(bending=bending, torsion=bending)).section == own
+        assert yarn_model(fabric, YarnSettings(bending=bending, torsion="bending")).section == own
+    solid = yarn_model(fabric, YarnSettings(bending="section")).section
+    free = yarn_model(fabric, YarnSettings(bending="free-fibres")).section
+    mixed = yarn_model(fabric, YarnSettings(bending="section", torsion="free-fibres")).section
+    assert mixed == dataclasses.replace(solid, torsion=free.torsion)
+    assert free.torsion < solid.torsion / 10
+    with pytest.raises(InputError, match="torsion='free-fibres' needs the yarn's fibres"):
+        yarn_model(load_preset("vassiliadis-sample2"), YarnSettings(torsion="free-fibres"))
+    with pytest.raises(InputError, match="torsion='rope' is unknown"):
+        YarnSettings(torsion="rope")
 
 
 def test_a_yarn_without_fibre_data_falls_back_to_its_section_and_says_so(caplog):
