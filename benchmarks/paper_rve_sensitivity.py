@@ -55,7 +55,9 @@ from rve_rod.rve.yarn import YarnModel, YarnSettings, yarn_model
 
 class Variant(NamedTuple):
     """One row: its name, YarnSettings fields, changes of the yarn model (a function of the
-    model and the fabric) or the loop, and the contact's lumping (`ContactOptions.lumping`)."""
+    model and the fabric) or the loop, the contact's lumping (`ContactOptions.lumping`), and
+    the yarn's r0 (mm) in place of the preset's 0.19 (None: the preset's): the radius of the
+    contact law and of the section's scaling, the loop keeps r = w/8."""
 
     name: str
     yarn_settings: dict
@@ -63,6 +65,7 @@ class Variant(NamedTuple):
     profile: str = "band"
     lumping: str = "line"
     tightening: float = 0.04
+    minimal_radius: float | None = None
 
 
 def with_exponent(exponent: float) -> Callable[[YarnModel, Fabric], YarnModel]:
@@ -88,6 +91,7 @@ def with_friction(
 
 SECTION = {"bending": "section"}
 FIBRES = {"bending": "free-fibres"}
+PAPER_I_FIBRE_TORSION = {**SECTION, "second_moment": "paper", "torsion": "free-fibres"}
 VARIANTS = (
     Variant("section (the paper's ingredients)", SECTION),
     Variant("section, I = pi r^4/12", {**SECTION, "second_moment": "paper"}),
@@ -216,6 +220,27 @@ VARIANTS = (
         {**FIBRES, "contact_radius": "measured", "friction": False},
         profile="tightened",
     ),
+    Variant(
+        "section I = pi r^4/12, the fibres' torsion, contact x3",
+        {**PAPER_I_FIBRE_TORSION, "contact_stiffness_factor": 0.03},
+    ),
+    Variant(
+        "section I = pi r^4/12, the fibres' torsion, parabolic loop, contact x3",
+        {**PAPER_I_FIBRE_TORSION, "contact_stiffness_factor": 0.03},
+        profile="parabolic",
+    ),
+    Variant(
+        "section I = pi r^4/12, the fibres' torsion, parabolic loop, r0 = 0.198 mm",
+        PAPER_I_FIBRE_TORSION,
+        profile="parabolic",
+        minimal_radius=0.198,
+    ),
+    Variant(
+        "section bending, the fibres' torsion, parabolic loop, r0 = 0.198 mm",
+        {**SECTION, "torsion": "free-fibres"},
+        profile="parabolic",
+        minimal_radius=0.198,
+    ),
     Variant("section, point loads r f_n at the collocation points", SECTION, lumping="point"),
     Variant("free fibres, point loads r f_n at the collocation points", FIBRES, lumping="point"),
 )
@@ -308,6 +333,9 @@ def measure(variant: Variant, stitch: float, control_points: int) -> dict:
         yarn=YarnSettings(**variant.yarn_settings),
     )
     fabric = load_preset("cotton-20s2", stitch)
+    if variant.minimal_radius is not None:
+        yarn = dataclasses.replace(fabric.yarn, minimal_radius=variant.minimal_radius)
+        fabric = dataclasses.replace(fabric, yarn=yarn)
     run = runner(variant)
     theirs = biaxial_rays(stitch)
     rays = [compare_run(fabric, ray, settings, runner=run) for ray in theirs]
