@@ -20,6 +20,10 @@ r0 enters the law k = 0.01 E0 (r0/r)^8, p = 3 - (r0/r)^3 and the section's scali
 (r0/r)^6; the loop (r = w/8) does not change. At 4.5, r0 >= 0.2 mm gives p < 1 (refused).
 
     .venv/bin/python benchmarks/paper_rve_bulge.py [--radius] [--control-points 68]
+        [--figure docs/figures/paper_rve_bulge.png]
+
+With --figure, the loop's centreline at rest, at the first and at the last state of that ray at
+stitch 4.5, seen along the course (y, z) and along the wale (x, z), for FIGURE_MODELS.
 
 About a minute (the depth table) and two minutes (--radius) at 68 control points on the shared
 2-core machine (2026-11-28). The tables go into docs/validation.md ("The bulge").
@@ -29,6 +33,7 @@ import argparse
 import dataclasses
 import time
 
+import matplotlib
 import numpy as np
 
 from rve_rod.errors import InputError
@@ -46,6 +51,9 @@ from rve_rod.rve.simulation import RveSettings
 from rve_rod.rve.yarn import YarnSettings
 from rve_rod.stress_measures import green_lagrange
 from rve_rod.units import n_per_mm_to_gf_per_cm
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
 
 STITCHES = (4.5, 5.5, 6.5)
 BULGE_MODELS = {
@@ -68,6 +76,12 @@ BULGE_MODELS = {
 }
 SHEAR_STATES = (4, 12)
 """Indices of the picture-frame states whose S12 the --radius table prints."""
+FIGURE_MODELS = (
+    "free fibres, parabolic loop, p - 0.25",
+    "section, parabolic loop, p - 0.25",
+    "free fibres (the default), band loop",
+)
+"""The models drawn by --figure (keys of BULGE_MODELS)."""
 RADII = (0.19, 0.198, 0.205)
 """r0 (mm) of the --radius table: the presets' 0.19 and two larger equivalent radii."""
 
@@ -169,13 +183,52 @@ def _shear_cells(run) -> str:
     return f"at {angles} deg: {s12(run.second_piola)} ({s12(run.reference.second_piola)})"
 
 
+def figure(path: str, control_points: int) -> None:
+    stitch = 4.5
+    fabric = load_preset("cotton-20s2", stitch)
+    ray = axis_rays(stitch)[0]
+    plot, axes = plt.subplots(2, len(FIGURE_MODELS), figsize=(5 * len(FIGURE_MODELS), 7))
+    for column, name in enumerate(FIGURE_MODELS):
+        profile, yarn = BULGE_MODELS[name]
+        settings = RveSettings(cell=CellSettings(control_points=control_points), yarn=yarn)
+        result = loop_profile_runner(profile)(fabric, run_case(ray, ray.converged), settings)
+        extent = loop_extents(result)
+        last = len(result.steps) - 1
+        for step, style in ((0, ":"), (1, "-"), (last, "--")):
+            curve = result.centreline(step)
+            points = curve(np.linspace(*curve.domain, 800))
+            label = (
+                f"E11 = {result.steps[step].green_lagrange[0]:.3f}, "
+                f"depth x{extent.depth[step] / extent.depth[0]:.2f}"
+            )
+            for row, (a, along) in enumerate(((1, "course"), (0, "wale"))):
+                axis = axes[row, column]
+                axis.plot(points[:, a], points[:, 2], style, color="k", label=label)
+                axis.set_xlabel(f"{'y' if a == 1 else 'x'} (mm)")
+                axis.set_ylabel("z (mm)")
+                axis.set_aspect("equal")
+                axis.set_title(f"{name}\nseen along the {along}", fontsize=9)
+        axes[0, column].legend(fontsize=7, loc="lower right")
+    plot.suptitle(
+        f"cotton 20s/2, stitch {stitch}: their {ray.angle_deg:.1f}-degree ray, "
+        f"{control_points} control points (rest dotted, first state solid, last dashed)"
+    )
+    plot.tight_layout()
+    plot.savefig(path, dpi=80)
+    print(f"wrote {path}")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--control-points", type=int, default=68)
     parser.add_argument("--radius", action="store_true", help="the r0 table instead")
+    parser.add_argument("--figure", help="draw the loops at stitch 4.5 into this PNG instead")
     args = parser.parse_args()
     start = time.perf_counter()
-    (radius_table if args.radius else depth_table)(args.control_points)
+    if args.figure:
+        figure(args.figure, args.control_points)
+    else:
+        (radius_table if args.radius else depth_table)(args.control_points)
     print(f"\n{time.perf_counter() - start:.0f} s")
 
 
