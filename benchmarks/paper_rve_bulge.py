@@ -19,8 +19,13 @@ and S12 of their picture-frame shear at its 5th and 13th state.
 r0 enters the law k = 0.01 E0 (r0/r)^8, p = 3 - (r0/r)^3 and the section's scaling (r0/r)^4,
 (r0/r)^6; the loop (r = w/8) does not change. At 4.5, r0 >= 0.2 mm gives p < 1 (refused).
 
-    .venv/bin/python benchmarks/paper_rve_bulge.py [--radius] [--control-points 68]
+    .venv/bin/python benchmarks/paper_rve_bulge.py [--radius | --support] [--control-points 68]
         [--figure docs/figures/paper_rve_bulge.png]
+
+With --support, what holds the cell out of its plane: the point support's z force over the
+largest face force (|reaction|, N) at the first and the last state of both axis rays, for
+BULGE_MODELS: the two-pass contact's out-of-plane imbalance (docs/contact.md), which the support
+carries and which would be zero were action and reaction equal.
 
 With --figure, the loop's centreline at rest, at the first and at the last state of that ray at
 stitch 4.5, seen along the course (y, z) and along the wale (x, z), for FIGURE_MODELS.
@@ -169,6 +174,28 @@ def radius_table(control_points: int) -> None:
                 )
 
 
+def support_table(control_points: int) -> None:
+    print("| model | " + " | ".join(f"{s} course / wale" for s in STITCHES) + " |")
+    print("|---|" + "---|" * len(STITCHES))
+    for name, (profile, yarn) in BULGE_MODELS.items():
+        settings = RveSettings(cell=CellSettings(control_points=control_points), yarn=yarn)
+        cells = []
+        for stitch in STITCHES:
+            fabric = load_preset("cotton-20s2", stitch)
+            shares = []
+            for ray in axis_rays(stitch):
+                result = loop_profile_runner(profile)(
+                    fabric, run_case(ray, ray.converged), settings
+                )
+                share = [
+                    abs(step.support_reaction[2]) / np.abs(step.reaction).max()
+                    for step in result.steps[1:]
+                ]
+                shares.append(f"{share[0]:.2f}, {share[-1]:.2f}" if share else "-")
+            cells.append(" / ".join(shares))
+        print(f"| {name} | " + " | ".join(cells) + " |", flush=True)
+
+
 def _shear_cells(run) -> str:
     """S12 (the symmetric part, gf/cm) ours (theirs) at SHEAR_STATES of the picture frame."""
     picks = [k for k in SHEAR_STATES if k < run.reached]
@@ -222,11 +249,14 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--control-points", type=int, default=68)
     parser.add_argument("--radius", action="store_true", help="the r0 table instead")
+    parser.add_argument("--support", action="store_true", help="the support's share instead")
     parser.add_argument("--figure", help="draw the loops at stitch 4.5 into this PNG instead")
     args = parser.parse_args()
     start = time.perf_counter()
     if args.figure:
         figure(args.figure, args.control_points)
+    elif args.support:
+        support_table(args.control_points)
     else:
         (radius_table if args.radius else depth_table)(args.control_points)
     print(f"\n{time.perf_counter() - start:.0f} s")

@@ -3,7 +3,9 @@ stitch 4.5, the parabolic loop of free-fibre yarn with the shifted contact expon
 the plane at the first state (its in-plane length falls although the cell is stretched), and the
 rest of the ray pulls it back; the default model's loop and the loop of the section's rigidity
 keep their depth. At the fast level's 28 control points (68 in benchmarks/paper_rve_bulge.py:
-depth x1.65 at the first state, x1.33 at the last)."""
+depth x1.65 at the first state, x1.33 at the last). What pushes the legs is the two-pass
+contact's out-of-plane imbalance, which the support at the head carries (test_contact_imbalance.py):
+a balanced contact would change these runs."""
 
 import pytest
 

@@ -1,0 +1,38 @@
+"""The two-pass contact's out-of-plane imbalance, which the cell's point support carries (docs/
+validation.md, "What pushes the loop out of its plane"; docs/contact.md, "Approximation:
+action-reaction"): pinned at the fast level's 28 control points so that a contact whose passes
+balance shows here (the support's force would fall to discretization error). Along their ray
+nearest the course axis at stitch 4.5, to their last converged state: the support's z force
+(mN) and its share of the largest face force at the first and the last state, on the model's
+loop and on the parabolic one with the exponent 0.25 lower (the bulging run)."""
+
+import numpy as np
+from pins import assert_pinned
+
+from rve_rod.presets import load_preset
+from rve_rod.rve.cell import CellSettings
+from rve_rod.rve.paper_comparison import axis_rays, loop_profile_runner, run_case
+from rve_rod.rve.simulation import RveSettings
+from rve_rod.rve.yarn import YarnSettings
+
+MODELS = {
+    "band": ("band", YarnSettings()),
+    "parabolic p - 0.25": ("parabolic", YarnSettings(contact_exponent_shift=-0.25)),
+}
+
+
+def test_the_support_carries_the_contacts_imbalance_and_it_is_pinned():
+    fabric = load_preset("cotton-20s2", 4.5)
+    ray = axis_rays(4.5)[0]
+    measured = {}
+    for name, (profile, yarn) in MODELS.items():
+        settings = RveSettings(cell=CellSettings(control_points=28), yarn=yarn)
+        result = loop_profile_runner(profile)(fabric, run_case(ray, ray.converged), settings)
+        assert result.complete, result.message
+        for label, step in (("first", result.steps[1]), ("last", result.steps[-1])):
+            force = step.support_reaction[2]
+            # the support takes no in-plane force: the in-plane parts of the contact cancel
+            assert np.abs(step.support_reaction[:2]).max() <= 1e-9 * abs(force)
+            measured[f"{name} {label} support z (mN)"] = 1e3 * force
+            measured[f"{name} {label} share"] = abs(force) / np.abs(step.reaction).max()
+    assert_pinned("CONTACT_IMBALANCE", measured)
