@@ -12,7 +12,9 @@ Poisson ratios at 20 % against their readings. The last rows combine ingredients
 `YarnSettings.prestrain`; docs/validation.md, "The taut loop"), the row "point loads" the
 reading of the law as a force at each collocation point (`ContactOptions.lumping`), the rows
 "natural curvature" and "straight yarn" a yarn that keeps no set
-(`YarnSettings.natural_curvature`), the rows "friction mu" the friction coefficient. The
+(`YarnSettings.natural_curvature`), the rows "friction mu" the friction coefficient, the rows
+"torsion" the twisting rigidity apart from the bending (`YarnSettings.torsion`), the rows
+"r0 = ..." the yarn's radius in the law and the section's scaling (`Variant.minimal_radius`). The
 table goes into docs/validation.md ("The paper group's RVE"); `benchmarks/paper_rve_trade.py`
 draws it.
 
@@ -167,17 +169,12 @@ VARIANTS = (
     ),
     Variant(
         "section I = pi r^4/12, the fibres' torsion, parabolic loop",
-        {**SECTION, "second_moment": "paper", "torsion": "free-fibres"},
+        PAPER_I_FIBRE_TORSION,
         profile="parabolic",
     ),
     Variant(
         "section I = pi r^4/12, the fibres' torsion, parabolic loop, exponent p - 0.25",
-        {
-            **SECTION,
-            "second_moment": "paper",
-            "contact_exponent_shift": -0.25,
-            "torsion": "free-fibres",
-        },
+        {**PAPER_I_FIBRE_TORSION, "contact_exponent_shift": -0.25},
         profile="parabolic",
     ),
     *(
