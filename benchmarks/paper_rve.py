@@ -7,7 +7,8 @@ largest stress of their run so far; target 20 %), and our uniaxial runs against 
 readings of their data (README of rve_rod/data/weeger_group_rve) and the paper's text.
 
     .venv/bin/python benchmarks/paper_rve.py [--stitches 5.5] [--control-points 68]
-        [--bending section] [--contact-lumping point] [--figures docs/figures] [--states 20]
+        [--bending section] [--contact-lumping point] [--balanced-contact]
+        [--figures docs/figures] [--states 20]
 
 About 15 minutes on one core at 68 control points, 3 at 28.
 """
@@ -46,6 +47,9 @@ def arguments():
     parser.add_argument(
         "--contact-lumping", choices=LUMPINGS, default="line", help="ContactOptions.lumping"
     )
+    parser.add_argument(
+        "--balanced-contact", action="store_true", help="ContactOptions.balance (an experiment)"
+    )
     parser.add_argument("--states", type=int, default=None, help="at most this many per run")
     parser.add_argument("--figures", type=Path, default=None, help="folder for the figures")
     parser.add_argument("--suffix", default="", help="appended to the figure names")
@@ -57,13 +61,14 @@ def main():
     settings = RveSettings(
         cell=CellSettings(
             control_points=args.control_points,
-            contact=ContactOptions(lumping=args.contact_lumping),
+            contact=ContactOptions(lumping=args.contact_lumping, balance=args.balanced_contact),
         ),
         yarn=YarnSettings(bending=args.bending, second_moment=args.second_moment),
     )
     print(
         f"settings: {args.control_points} control points, bending {args.bending}, "
-        f"second moment {args.second_moment}, contact lumping {args.contact_lumping}; "
+        f"second moment {args.second_moment}, contact lumping {args.contact_lumping}"
+        f"{', balanced contact' if args.balanced_contact else ''}; "
         f"target: every converged state within "
         f"{TARGET:.0%} of the run's largest stress\n"
     )

@@ -15,9 +15,9 @@ gradient of each of our loop profiles (`OUT_OF_PLANE_PROFILES`: the model's "ban
 issue-14 experiment's literature shapes): a1 / a2 and their rest (a negative rest: their C
 does not fit that loop). Last, the same split on the parabolic loop (the one whose gradient
 their C fits at 4.5): theirs and ours (the default model and the variants of
-`PARABOLIC_MODELS`: stiffer contacts, no friction, the pre-loaded rests, the exponent shift)
-split with its own a, k / affine to four digits. The tables go into docs/validation.md ("What
-the shape of their response says", point 6).
+`PARABOLIC_MODELS`: stiffer contacts, no friction, the pre-loaded rests, the exponent shift, the
+balanced contact) split with its own a, k / affine to four digits. The tables go into
+docs/validation.md ("What the shape of their response says", point 6).
 
     .venv/bin/python benchmarks/paper_rve_rest.py [--control-points 68] [--parabolic-only]
 
@@ -29,6 +29,7 @@ import time
 
 import numpy as np
 
+from rve_rod.contact import ContactOptions
 from rve_rod.geometry.loop import OUT_OF_PLANE_PROFILES, loop_length_gradient, single_jersey_loop
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
@@ -54,18 +55,36 @@ MODELS = {
         contact_radius="measured", friction=False
     ),
 }
+BALANCED = ContactOptions(balance=True)
 PARABOLIC_MODELS = {
-    "free fibres (the default)": YarnSettings(),
-    "free fibres, contact x1.5": YarnSettings(contact_stiffness_factor=0.015),
-    "free fibres, contact x2": YarnSettings(contact_stiffness_factor=0.02),
-    "free fibres, frictionless": YarnSettings(friction=False),
-    "free fibres, contact at r0 (squeezed rest)": YarnSettings(contact_radius="measured"),
-    "free fibres, natural length the measured loop length": YarnSettings(natural_length="measured"),
-    "free fibres, exponent p - 0.25": YarnSettings(contact_exponent_shift=-0.25),
-    "free fibres, exponent p - 0.25, frictionless": YarnSettings(
-        contact_exponent_shift=-0.25, friction=False
+    "free fibres (the default)": (YarnSettings(), ContactOptions()),
+    "free fibres, contact x1.5": (YarnSettings(contact_stiffness_factor=0.015), ContactOptions()),
+    "free fibres, contact x2": (YarnSettings(contact_stiffness_factor=0.02), ContactOptions()),
+    "free fibres, frictionless": (YarnSettings(friction=False), ContactOptions()),
+    "free fibres, contact at r0 (squeezed rest)": (
+        YarnSettings(contact_radius="measured"),
+        ContactOptions(),
+    ),
+    "free fibres, natural length the measured loop length": (
+        YarnSettings(natural_length="measured"),
+        ContactOptions(),
+    ),
+    "free fibres, exponent p - 0.25": (
+        YarnSettings(contact_exponent_shift=-0.25),
+        ContactOptions(),
+    ),
+    "free fibres, exponent p - 0.25, frictionless": (
+        YarnSettings(contact_exponent_shift=-0.25, friction=False),
+        ContactOptions(),
+    ),
+    "free fibres, balanced contact": (YarnSettings(), BALANCED),
+    "free fibres, exponent p - 0.25, balanced contact": (
+        YarnSettings(contact_exponent_shift=-0.25),
+        BALANCED,
     ),
 }
+"""The parabolic loop's models: yarn settings and contact options (`ContactOptions.balance`:
+the contact whose passes balance, docs/validation.md, "What pushes the loop out of its plane")."""
 
 
 def _row(stitch, model, stiffness, gradient, affine, digits=3):
@@ -153,10 +172,11 @@ def parabolic(control_points: int):
         axes = axis_rays(stitch)
         theirs = secant_at_rest(axes)
         _row(stitch, "theirs", theirs, gradient, affine, digits=4)
-        for name, yarn_settings in PARABOLIC_MODELS.items():
+        for name, (yarn_settings, contact) in PARABOLIC_MODELS.items():
             started = time.perf_counter()
             settings = RveSettings(
-                cell=CellSettings(control_points=control_points), yarn=yarn_settings
+                cell=CellSettings(control_points=control_points, contact=contact),
+                yarn=yarn_settings,
             )
             first = [
                 compare_run(fabric, ray, settings, states=1, runner=run).second_piola[0]

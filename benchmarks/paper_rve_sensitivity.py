@@ -11,6 +11,7 @@ Poisson ratios at 20 % against their readings. The last rows combine ingredients
 "prestrain" and "natural length" are the taut-loop experiment (a yarn shorter than its loop,
 `YarnSettings.prestrain`; docs/validation.md, "The taut loop"), the row "point loads" the
 reading of the law as a force at each collocation point (`ContactOptions.lumping`), the rows
+"balanced contact" the contact whose passes balance (`ContactOptions.balance`), the rows
 "natural curvature" and "straight yarn" a yarn that keeps no set
 (`YarnSettings.natural_curvature`), the rows "friction mu" the friction coefficient, the rows
 "torsion" the twisting rigidity apart from the bending (`YarnSettings.torsion`), the rows
@@ -57,7 +58,8 @@ from rve_rod.rve.yarn import YarnModel, YarnSettings, yarn_model
 
 class Variant(NamedTuple):
     """One row: its name, YarnSettings fields, changes of the yarn model (a function of the
-    model and the fabric) or the loop, the contact's lumping (`ContactOptions.lumping`), and
+    model and the fabric) or the loop, the contact's lumping (`ContactOptions.lumping`) and
+    balance (`ContactOptions.balance`), and
     the yarn's r0 (mm) in place of the preset's 0.19 (None: the preset's): the radius of the
     contact law and of the section's scaling, the loop keeps r = w/8."""
 
@@ -66,6 +68,7 @@ class Variant(NamedTuple):
     yarn: Callable[[YarnModel, Fabric], YarnModel] | None = None
     profile: str = "band"
     lumping: str = "line"
+    balance: bool = False
     tightening: float = 0.04
     minimal_radius: float | None = None
 
@@ -238,6 +241,23 @@ VARIANTS = (
         profile="parabolic",
         minimal_radius=0.198,
     ),
+    Variant("free fibres, balanced contact", FIBRES, balance=True),
+    Variant("section, balanced contact", SECTION, balance=True),
+    Variant(
+        "free fibres, parabolic loop, balanced contact", FIBRES, profile="parabolic", balance=True
+    ),
+    Variant(
+        "free fibres, parabolic loop, exponent p - 0.25, balanced contact",
+        {**FIBRES, "contact_exponent_shift": -0.25},
+        profile="parabolic",
+        balance=True,
+    ),
+    Variant(
+        "section I = pi r^4/12, the fibres' torsion, parabolic loop, contact x3, balanced contact",
+        {**PAPER_I_FIBRE_TORSION, "contact_stiffness_factor": 0.03},
+        profile="parabolic",
+        balance=True,
+    ),
     Variant("section, point loads r f_n at the collocation points", SECTION, lumping="point"),
     Variant("free fibres, point loads r f_n at the collocation points", FIBRES, lumping="point"),
 )
@@ -325,7 +345,8 @@ def runner(variant: Variant) -> Callable[[Fabric, LoadCase, RveSettings], object
 def measure(variant: Variant, stitch: float, control_points: int) -> dict:
     settings = RveSettings(
         cell=CellSettings(
-            control_points=control_points, contact=ContactOptions(lumping=variant.lumping)
+            control_points=control_points,
+            contact=ContactOptions(lumping=variant.lumping, balance=variant.balance),
         ),
         yarn=YarnSettings(**variant.yarn_settings),
     )

@@ -98,6 +98,13 @@ class ContactOptions:
             r f_n(g) / h_i with h_i the point's collocation weight (mm), friction scaled with
             it (k_t r N/mm per mm of slip); an experiment (docs/validation.md, issue 27),
             whose stiffness depends on the discretization through r / h_i.
+        balance: apply each slave point's load also, reversed, to its master (default False:
+            two-pass, each point loaded by its own penetration only). The reaction of the load
+            q of slave point s (collocation weight w_s) at the master span's parameter tau is
+            the line load -q w_s N_a(tau) / w_a at the span's collocation points a (control
+            point a <-> collocation point a), and both passes act at half, so that the
+            contact forces sum to zero by the collocation weights (action = reaction). An
+            issue-27 experiment (docs/contact.md, "Approximation: action-reaction").
     """
 
     search_margin: float | None = None
@@ -106,6 +113,7 @@ class ContactOptions:
     max_image_shift: int = 3
     spans_per_box: int = 8
     lumping: str = "line"
+    balance: bool = False
 
     def __post_init__(self):
         if self.search_margin is not None:
@@ -116,6 +124,8 @@ class ContactOptions:
             check_positive("region_arc_length", self.region_arc_length, "mm")
         check_integer("max_image_shift", self.max_image_shift, 1, 100)
         check_integer("spans_per_box", self.spans_per_box, 1)
+        if not isinstance(self.balance, bool):
+            raise InputError(f"balance={self.balance!r} must be True or False")
         if self.lumping not in LUMPINGS:
             raise InputError(
                 f"lumping={self.lumping!r} is unknown; valid: {', '.join(map(repr, LUMPINGS))}"
@@ -250,6 +260,10 @@ class ContactResult:
         statistics: counts of the search and of the contact states.
         trial_history: the friction anchors this state would leave if committed (None without
             friction).
+        line_derivatives: the derivatives of `line_load` in the same form: `derivatives`
+            itself for the two-pass contact; with `ContactOptions.balance`, half of them and
+            the reactions on the masters as further contacts (their `slave` the masters'
+            collocation points). None if not requested.
     """
 
     line_load: np.ndarray
@@ -257,6 +271,7 @@ class ContactResult:
     contacts: ActiveContacts
     statistics: ContactStatistics
     trial_history: FrictionHistory | None
+    line_derivatives: ContactDerivatives | None
 
     @property
     def jacobian(self) -> scipy.sparse.coo_matrix | None:
@@ -264,7 +279,7 @@ class ContactResult:
         by `.tocsr()`; map `.row`, `.col` to global equations and dofs before assembling);
         row c m + j is line_load[c, j] (the C order of line_load, as the rod's LineLoads),
         column 3i + c is positions[i, c] (N/mm^2). None if not requested."""
-        derivatives = self.derivatives
+        derivatives = self.line_derivatives
         if derivatives is None:
             return None
         m = derivatives.n_points
@@ -275,7 +290,7 @@ class ContactResult:
     def deformation_jacobian(self) -> np.ndarray | None:
         """(3m, 4) d line_load / d (F11, F12, F21, F22) (N/mm), rows as in `jacobian`. None if
         not requested."""
-        derivatives = self.derivatives
+        derivatives = self.line_derivatives
         if derivatives is None:
             return None
         slave, k = derivatives.slave, derivatives.slave.size
@@ -489,6 +504,11 @@ class ContactModel:
         if tangent:
             terms = _active_terms(regions.terms, active_rows, detected.slave.size)
             derivatives = self._linearization(weighted, active, anchors, loads.load, terms)
+        line_derivatives = derivatives
+        if self.options.balance:
+            line_load, line_derivatives = self._balanced(
+                line_load, weighted.load, active, derivatives
+            )
         penetration = 2.0 * radius - active.state.distance
         contacts = ActiveContacts(
             slave=active.slave,
@@ -532,6 +552,7 @@ class ContactModel:
             contacts=contacts,
             statistics=statistics,
             trial_history=trial_history,
+            line_derivatives=line_derivatives,
         )
 
     def _anchors(self, points, slave_points, deformation, active: _Selection) -> _Anchors:
@@ -687,6 +708,78 @@ class ContactModel:
         )
 
     # -- linearization --------------------------------------------------------------------------
+
+    def _balanced(
+        self,
+        line_load: np.ndarray,
+        load: np.ndarray,
+        active: _Selection,
+        derivatives: ContactDerivatives | None,
+    ) -> tuple[np.ndarray, ContactDerivatives | None]:
+        """The line loads of `ContactOptions.balance` and their derivatives: half the two-pass
+        `line_load` (3, m) plus the reactions of the k contacts' loads `load` (3, k) on their
+        masters, and `derivatives` (of the k loads) extended by the reactions as k (p+1)
+        further contacts, contact j's reaction on its master span's control point a being
+        contact k + j (p+1) + a. With r_ja = c_ja q_j, c_ja = -w_s N_a(tau) / (2 w_a):
+        dr_ja = c_ja dq_j + c'_ja q_j dtau, c'_ja = -w_s N_a'(tau) / (2 w_a), and
+        dtau = [C'.(dx_s - dx_m) + v.dC'] / H (`rve_rod.contact.forces`)."""
+        layout = self.layout
+        weights = layout.collocation_weights
+        width = layout.degree + 1
+        k = active.slave.size
+        points = layout.span_first[active.span][:, None] + np.arange(width)  # (k, p+1)
+        scale = -0.5 * weights[active.slave][:, None] / weights[points]
+        value = scale * layout.basis(active.span, active.tau)  # c_ja
+        reaction = load[:, :, None] * value[None]  # (3, k, p+1)
+        balanced = 0.5 * line_load + _sum_per_point(
+            points.ravel(), reaction.reshape(3, -1), layout.n_points
+        )
+        if derivatives is None:
+            return balanced, None
+        slope = scale * layout.basis(active.span, active.tau, 1)  # c'_ja
+        state = active.state
+        # dtau / d(x_s, x_m, C') as rows (3, k) each: C'/H, -C'/H, v/H
+        sensitivity = (
+            np.stack(
+                [state.tangent, -state.tangent, state.gap_vector, np.zeros_like(state.tangent)]
+            )
+            / state.metric
+        )  # (4, 3, k)
+        sets = derivatives.contact  # (b,) the contact of each block set
+        blocks = derivatives.blocks[..., :, None] * value[sets][None, None, None]  # (4,3,3,b,p+1)
+        own = np.arange(k)
+        blocks[..., own, :] += np.einsum("ck,rdk,ka->rcdka", load, sensitivity, slope)
+        repeat = np.repeat(np.arange(sets.size), width)
+        chain = derivatives.chain
+        by_deformation = derivatives.deformation.reshape(3, k, 4)
+        tau_by_deformation = np.zeros((k, 4))  # dtau / dF_ab = -C'_a L_b / H
+        for column, (a, b) in enumerate(((0, 0), (0, 1), (1, 0), (1, 1))):
+            tau_by_deformation[:, column] = -state.tangent[a] * active.shift[:, b] / state.metric
+        reaction_by_deformation = (
+            by_deformation[:, :, None, :] * value[None, :, :, None]
+            + load[:, :, None, None]
+            * slope[None, :, :, None]
+            * tau_by_deformation[None, :, None, :]
+        ).reshape(3, k * width, 4)
+        extended = ContactDerivatives(
+            blocks=np.concatenate([0.5 * derivatives.blocks, blocks.reshape(4, 3, 3, -1)], axis=-1),
+            contact=np.concatenate(
+                [sets, k + (sets[:, None] * width + np.arange(width)).ravel()]
+            ).astype(np.int64),
+            chain=_kernels.SpanChain(
+                np.ascontiguousarray(np.concatenate([chain.first, chain.first[:, repeat]], axis=1)),
+                np.ascontiguousarray(
+                    np.concatenate([chain.basis, chain.basis[..., repeat]], axis=2)
+                ),
+            ),
+            deformation=np.concatenate(
+                [0.5 * by_deformation, reaction_by_deformation], axis=1
+            ).reshape(-1, 4),
+            slave=np.concatenate([active.slave, points.ravel()]),
+            n_points=derivatives.n_points,
+            n_control_points=derivatives.n_control_points,
+        )
+        return balanced, extended
 
     def _linearization(
         self,

@@ -112,7 +112,7 @@ class ContactCoupling:
 
     def __call__(self, model, state: np.ndarray, load_factor: float) -> LineLoads:
         result = self.result(state, load_factor)
-        derivatives = result.derivatives
+        derivatives = result.line_derivatives
         m, k = result.line_load.shape[1], derivatives.slave.size
         # component c of contact i loads line-load row c m + slave_i (as LineLoads counts)
         load_rows = m * np.arange(3)[:, None] + derivatives.slave[None, :]

@@ -9,9 +9,10 @@ loop and on the parabolic one with the exponent 0.25 lower (the bulging run)."""
 import numpy as np
 from pins import assert_pinned
 
+from rve_rod.contact import ContactOptions
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.paper_comparison import axis_rays, loop_profile_runner, run_case
+from rve_rod.rve.paper_comparison import axis_rays, loop_extents, loop_profile_runner, run_case
 from rve_rod.rve.simulation import RveSettings
 from rve_rod.rve.yarn import YarnSettings
 
@@ -36,3 +37,23 @@ def test_the_support_carries_the_contacts_imbalance_and_it_is_pinned():
             measured[f"{name} {label} support z (mN)"] = 1e3 * force
             measured[f"{name} {label} share"] = abs(force) / np.abs(step.reaction).max()
     assert_pinned("CONTACT_IMBALANCE", measured)
+
+
+def test_the_balanced_contact_leaves_the_support_nothing_and_the_loop_does_not_bulge():
+    """`ContactOptions.balance`: each load's reaction on its master makes the net contact force
+    vanish, so the support of the bulging run (the parabolic loop, p - 0.25, stitch 4.5: 123 %
+    and 83 % of the face force with the two-pass contact, depth x1.66) carries below 2 % of the
+    face force at every state (measured 0.5 %), and the loop only thins as it is stretched."""
+    ray = axis_rays(4.5)[0]
+    settings = RveSettings(
+        cell=CellSettings(control_points=28, contact=ContactOptions(balance=True)),
+        yarn=YarnSettings(contact_exponent_shift=-0.25),
+    )
+    result = loop_profile_runner("parabolic")(
+        load_preset("cotton-20s2", 4.5), run_case(ray, ray.converged), settings
+    )
+    assert result.complete, result.message
+    for step in result.steps[1:]:
+        assert abs(step.support_reaction[2]) < 0.02 * np.abs(step.reaction).max()
+    depth = loop_extents(result).depth
+    assert np.all(depth <= depth[0] * (1 + 1e-3))

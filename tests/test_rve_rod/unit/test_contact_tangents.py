@@ -298,3 +298,47 @@ def test_point_lumping_tangent_of_shared_minima():
 def test_unknown_lumping_is_refused():
     with pytest.raises(InputError, match="lumping='lumped' is unknown; valid: 'line', 'point'"):
         ContactOptions(lumping="lumped")
+
+
+@pytest.mark.parametrize(("friction", "state"), KNIT_CELL_STATES)
+def test_balanced_contact_sums_to_zero_and_its_tangent_matches_differences(
+    cotton_loop, friction, state
+):
+    """`balance=True`: each slave load also acts, reversed, on its master's collocation points
+    (each pass at half). By periodicity the cell's net contact force, summed with the
+    collocation weights, is then zero to round-off (the two-pass one is not: the z part of a
+    curved loop's contacts), and the tangent (positions and F, including the master
+    parameter's sensitivity) matches central differences."""
+    scene = knit_loop(cotton_loop, 20)
+    law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=cotton_loop.yarn_radius)
+
+    def model(balance):
+        return ContactModel(
+            scene.patches,
+            scene.positions,
+            law,
+            friction=friction,
+            lattice=scene.lattice,
+            options=ContactOptions(balance=balance),
+        )
+
+    two_pass, balanced = model(False), model(True)
+    deformation = np.array([[0.96, 0.04, 0.0], [0.02, 0.95, 0.0], [0.0, 0.0, 1.0]])
+    positions = scene.positions @ deformation.T
+    positions += 0.004 * np.random.default_rng(5).normal(size=positions.shape)
+    result = balanced.evaluate(positions, deformation)
+    assert result.statistics.active_contacts > 20
+    weights = balanced.collocation_weights
+    unbalanced = two_pass.evaluate(positions, deformation, tangent=False).line_load @ weights
+    net = result.line_load @ weights
+    scale = np.abs(result.line_load).max() * weights.sum()
+    assert np.abs(unbalanced).max() > 1e-3 * scale
+    assert np.abs(net).max() <= 1e-12 * scale
+    fd_positions, fd_deformation = finite_difference_jacobians(balanced, positions, deformation)
+    assert_relative(result.jacobian.toarray(), fd_positions)
+    assert_relative(result.deformation_jacobian, fd_deformation)
+
+
+def test_balance_must_be_a_bool():
+    with pytest.raises(InputError, match="balance='yes' must be True or False"):
+        ContactOptions(balance="yes")
