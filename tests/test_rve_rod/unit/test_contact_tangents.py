@@ -50,6 +50,13 @@ def assert_relative(actual, expected, tolerance=1e-6):
     assert np.abs(actual - expected).max() <= tolerance * scale
 
 
+def assert_tangent(result, model, positions, deformation):
+    """`result`'s line-load derivatives (positions and F) match central differences."""
+    fd_positions, fd_deformation = finite_difference_jacobians(model, positions, deformation)
+    assert_relative(result.jacobian.toarray(), fd_positions)
+    assert_relative(result.deformation_jacobian, fd_deformation)
+
+
 def curved_crossed_rods(n=14, degree=4):
     """Two curved rods crossing near the origin, centrelines about 0.2 apart (r = 0.2)."""
     knots = open_knot_vector(degree, n)
@@ -97,6 +104,27 @@ KNIT_CELL_STATES = [
 ]
 """Friction laws that put every active contact of the knit cells below in one state."""
 
+SHEAR = np.array([[0.96, 0.04, 0.0], [0.02, 0.95, 0.0], [0.0, 0.0, 1.0]])
+"""A compressive shear F of the knit cells below (as built their loops only touch)."""
+
+
+def knit_cell_model(scene, law, friction, **options):
+    """The contact model of a knit cell scene with `ContactOptions(**options)`."""
+    return ContactModel(
+        scene.patches,
+        scene.positions,
+        law,
+        friction=friction,
+        lattice=scene.lattice,
+        options=ContactOptions(**options),
+    )
+
+
+def sheared_positions(scene):
+    """The scene's control points mapped by SHEAR and perturbed (seed 5, 0.004 mm)."""
+    positions = scene.positions @ SHEAR.T
+    return positions + 0.004 * np.random.default_rng(5).normal(size=positions.shape)
+
 
 @pytest.mark.parametrize(("friction", "state"), KNIT_CELL_STATES)
 def test_knit_cell_tangent_with_images_under_shear(cotton_loop, friction, state):
@@ -104,13 +132,8 @@ def test_knit_cell_tangent_with_images_under_shear(cotton_loop, friction, state)
     # touch), the control points then perturbed.
     scene = knit_loop(cotton_loop, 20)
     law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=cotton_loop.yarn_radius)
-    model = ContactModel(
-        scene.patches, scene.positions, law, friction=friction, lattice=scene.lattice
-    )
-    deformation = np.array([[0.96, 0.04, 0.0], [0.02, 0.95, 0.0], [0.0, 0.0, 1.0]])
-    rng = np.random.default_rng(5)
-    positions = scene.positions @ deformation.T
-    positions += 0.004 * rng.normal(size=positions.shape)
+    model = knit_cell_model(scene, law, friction)
+    deformation, positions = SHEAR, sheared_positions(scene)
     result = model.evaluate(positions, deformation)
     stats = result.statistics
     images = {tuple(image) for image in result.contacts.image}
@@ -121,9 +144,7 @@ def test_knit_cell_tangent_with_images_under_shear(cotton_loop, friction, state)
         assert stats.sticking >= 0.9 * anchored > 0
     if state == "slip":
         assert stats.sliding >= 0.9 * anchored > 0
-    fd_positions, fd_deformation = finite_difference_jacobians(model, positions, deformation)
-    assert_relative(result.jacobian.toarray(), fd_positions)
-    assert_relative(result.deformation_jacobian, fd_deformation)
+    assert_tangent(result, model, positions, deformation)
 
 
 def test_per_contact_derivatives_sum_to_the_line_load_ones_and_match_differences(cotton_loop):
@@ -216,9 +237,7 @@ def test_shared_minima_tangent_with_images_under_shear(friction, state, tilt):
         assert stats.sticking == stats.active_contacts
     if state == "slip":
         assert stats.sliding == stats.active_contacts
-    fd_positions, fd_deformation = finite_difference_jacobians(model, positions, deformation)
-    assert_relative(result.jacobian.toarray(), fd_positions)
-    assert_relative(result.deformation_jacobian, fd_deformation)
+    assert_tangent(result, model, positions, deformation)
 
 
 @pytest.mark.parametrize(("friction", "state"), KNIT_CELL_STATES)
@@ -230,20 +249,9 @@ def test_point_lumping_tangent_and_scale(cotton_loop, friction, state):
     radius = cotton_loop.yarn_radius
     law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=radius)
 
-    def model(lumping):
-        return ContactModel(
-            scene.patches,
-            scene.positions,
-            law,
-            friction=friction,
-            lattice=scene.lattice,
-            options=ContactOptions(lumping=lumping),
-        )
-
-    line, point = model("line"), model("point")
-    deformation = np.array([[0.96, 0.04, 0.0], [0.02, 0.95, 0.0], [0.0, 0.0, 1.0]])
-    positions = scene.positions @ deformation.T
-    positions += 0.004 * np.random.default_rng(5).normal(size=positions.shape)
+    line = knit_cell_model(scene, law, friction, lumping="line")
+    point = knit_cell_model(scene, law, friction, lumping="point")
+    deformation, positions = SHEAR, sheared_positions(scene)
     by_line = line.evaluate(positions, deformation)
     result = point.evaluate(positions, deformation)
     stats = result.statistics
@@ -266,9 +274,7 @@ def test_point_lumping_tangent_and_scale(cotton_loop, friction, state):
         atol=1e-12 * np.abs(line_jacobian).max(),
     )
     assert result.deformation_jacobian.shape == (3 * m, 4)
-    fd_positions, fd_deformation = finite_difference_jacobians(point, positions, deformation)
-    assert_relative(result.jacobian.toarray(), fd_positions)
-    assert_relative(result.deformation_jacobian, fd_deformation)
+    assert_tangent(result, point, positions, deformation)
 
 
 def test_point_lumping_tangent_of_shared_minima():
@@ -290,9 +296,7 @@ def test_point_lumping_tangent_of_shared_minima():
     result = model.evaluate(positions, deformation)
     weight = result.contacts.weight
     assert np.count_nonzero((weight > 0.05) & (weight < 0.95)) >= 2
-    fd_positions, fd_deformation = finite_difference_jacobians(model, positions, deformation)
-    assert_relative(result.jacobian.toarray(), fd_positions)
-    assert_relative(result.deformation_jacobian, fd_deformation)
+    assert_tangent(result, model, positions, deformation)
 
 
 def test_unknown_lumping_is_refused():
@@ -312,20 +316,9 @@ def test_balanced_contact_sums_to_zero_and_its_tangent_matches_differences(
     scene = knit_loop(cotton_loop, 20)
     law = CompressibleYarnLaw(stiffness=3.0, exponent=1.3, yarn_radius=cotton_loop.yarn_radius)
 
-    def model(balance):
-        return ContactModel(
-            scene.patches,
-            scene.positions,
-            law,
-            friction=friction,
-            lattice=scene.lattice,
-            options=ContactOptions(balance=balance),
-        )
-
-    two_pass, balanced = model(False), model(True)
-    deformation = np.array([[0.96, 0.04, 0.0], [0.02, 0.95, 0.0], [0.0, 0.0, 1.0]])
-    positions = scene.positions @ deformation.T
-    positions += 0.004 * np.random.default_rng(5).normal(size=positions.shape)
+    two_pass = knit_cell_model(scene, law, friction)
+    balanced = knit_cell_model(scene, law, friction, balance=True)
+    deformation, positions = SHEAR, sheared_positions(scene)
     result = balanced.evaluate(positions, deformation)
     assert result.statistics.active_contacts > 20
     weights = balanced.collocation_weights
@@ -334,9 +327,7 @@ def test_balanced_contact_sums_to_zero_and_its_tangent_matches_differences(
     scale = np.abs(result.line_load).max() * weights.sum()
     assert np.abs(unbalanced).max() > 1e-3 * scale
     assert np.abs(net).max() <= 1e-12 * scale
-    fd_positions, fd_deformation = finite_difference_jacobians(balanced, positions, deformation)
-    assert_relative(result.jacobian.toarray(), fd_positions)
-    assert_relative(result.deformation_jacobian, fd_deformation)
+    assert_tangent(result, balanced, positions, deformation)
 
 
 def test_balance_must_be_a_bool():
