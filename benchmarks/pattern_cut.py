@@ -7,10 +7,11 @@ A periodic cell's answer should not depend on where its yarn is cut. Cotton 20s/
 in two steps; a cut that lands on a contact (`RveStep.contacts_at_cut` > 0: the rod engine
 ignores the loads at a patch's ends) is marked. Also printed: the support's reaction (the
 net force and moment the contacts' two passes leave on the cell, which a balanced contact
-would make zero), N and N mm. The table goes into docs/patterns.md ("The periodic cut").
+makes zero: `--balanced-contact`, `ContactOptions.balance`), N and N mm. The table goes into
+docs/patterns.md ("The periodic cut").
 
     .venv/bin/python benchmarks/pattern_cut.py [--control-points 36,68]
-        [--patterns jersey,rib1x1,seed,garter]
+        [--patterns jersey,rib1x1,seed,garter] [--balanced-contact]
 """
 
 import argparse
@@ -32,6 +33,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--control-points", default="36,68")
     parser.add_argument("--patterns", default="jersey,rib1x1,seed,garter")
+    parser.add_argument("--balanced-contact", action="store_true", help="ContactOptions.balance")
     args = parser.parse_args()
     preset = load_preset("cotton-20s2", 5.5)
     print(
@@ -46,8 +48,9 @@ def main() -> None:
             for name in ("uniaxial-course", "uniaxial-wale"):
                 forces = []
                 for cut in CUTS:
+                    contact = dataclasses.replace(base.cell.contact, balance=args.balanced_contact)
                     settings = dataclasses.replace(
-                        base, cell=dataclasses.replace(base.cell, cut=cut)
+                        base, cell=dataclasses.replace(base.cell, cut=cut, contact=contact)
                     )
                     started = time.perf_counter()
                     try:
