@@ -7,11 +7,14 @@ A periodic cell's answer should not depend on where its yarn is cut. Cotton 20s/
 in two steps; a cut that lands on a contact (`RveStep.contacts_at_cut` > 0: the rod engine
 ignores the loads at a patch's ends) is marked. Also printed: the support's reaction (the
 net force and moment the contacts' two passes leave on the cell, which a balanced contact
-makes zero: `--balanced-contact`, `ContactOptions.balance`), N and N mm. The table goes into
-docs/patterns.md ("The periodic cut").
+makes zero: `--balanced-contact`, `ContactOptions.balance`), N and N mm; `--support-rotation
+regularized` lets the support go of the rotation about the course axis once the contacts hold
+it (`CellSettings.support_rotation`). The table goes into docs/patterns.md ("The periodic
+cut").
 
     .venv/bin/python benchmarks/pattern_cut.py [--control-points 36,68]
         [--patterns jersey,rib1x1,seed,garter] [--balanced-contact]
+        [--support-rotation regularized]
 """
 
 import argparse
@@ -22,6 +25,7 @@ import numpy as np
 
 from rve_rod.errors import ConvergenceError
 from rve_rod.presets import load_preset
+from rve_rod.rve.cell import SUPPORT_ROTATIONS
 from rve_rod.rve.engine import fabric_settings
 from rve_rod.rve.load_cases import load_case
 from rve_rod.rve.simulation import simulate
@@ -34,6 +38,9 @@ def main() -> None:
     parser.add_argument("--control-points", default="36,68")
     parser.add_argument("--patterns", default="jersey,rib1x1,seed,garter")
     parser.add_argument("--balanced-contact", action="store_true", help="ContactOptions.balance")
+    parser.add_argument(
+        "--support-rotation", choices=SUPPORT_ROTATIONS, default="held", help="CellSettings"
+    )
     args = parser.parse_args()
     preset = load_preset("cotton-20s2", 5.5)
     print(
@@ -50,7 +57,13 @@ def main() -> None:
                 for cut in CUTS:
                     contact = dataclasses.replace(base.cell.contact, balance=args.balanced_contact)
                     settings = dataclasses.replace(
-                        base, cell=dataclasses.replace(base.cell, cut=cut, contact=contact)
+                        base,
+                        cell=dataclasses.replace(
+                            base.cell,
+                            cut=cut,
+                            contact=contact,
+                            support_rotation=args.support_rotation,
+                        ),
                     )
                     started = time.perf_counter()
                     try:

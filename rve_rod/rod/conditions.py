@@ -431,12 +431,17 @@ class PointSupport(Condition):
         first_unknown: index among the extra unknowns of the first multiplier: three for the
             reaction force, then one per rotation axis for the reaction moment.
         rotation_axes: spatial axes (each 3 numbers) about which the frame at u* is held.
+        rotation_stiffness: k (N mm per rad), or inf (the default): the rotations about the
+            axes are held exactly; a finite k holds them by a spring instead, the reaction
+            moment -k theta (theta the rotation about the axis), for a rotation that is a
+            rigid mode only at rest (a cell whose contacts hold it once loaded).
     """
 
     patch: int
     parameter: float
     first_unknown: int = 0
     rotation_axes: tuple = ()
+    rotation_stiffness: float = np.inf
 
     def __post_init__(self):
         axes = np.array([as_vector("rotation axis", axis) for axis in self.rotation_axes])
@@ -445,6 +450,10 @@ class PointSupport(Condition):
         if np.any(lengths == 0.0):
             raise InputError("rotation_axes must be nonzero vectors")
         object.__setattr__(self, "rotation_axes", tuple(axes / lengths[:, None]))
+        if not self.rotation_stiffness > 0.0:
+            raise InputError(
+                f"rotation_stiffness={self.rotation_stiffness!r} must be > 0 (inf: held)"
+            )
 
     @property
     def ends(self) -> tuple[RodEnd, ...]:
@@ -485,6 +494,8 @@ class PointSupport(Condition):
         if not self.rotation_axes:
             return blocks
         current = values @ state[constant.quaternion_columns]
+        # the error is half the angle: theta / 2 + lambda / (2 k) = 0 holds lambda = -k theta
+        compliance = 0.5 / self.rotation_stiffness
         for i, axis in enumerate(self.rotation_axes):
             blocks.append(
                 Block(
@@ -494,6 +505,15 @@ class PointSupport(Condition):
                     constant.d_rotation[i],
                 )
             )
+            if compliance:
+                blocks.append(
+                    Block(
+                        rows[3 + i : 4 + i],
+                        np.array([compliance * state[multipliers[3 + i]]]),
+                        multipliers[3 + i : 4 + i],
+                        np.array([[compliance]]),
+                    )
+                )
             for c in range(3):
                 blocks.append(
                     Block(

@@ -73,6 +73,7 @@ from rve_rod.rve.yarn import YarnModel
 from rve_rod.stepping import SteppingOptions
 
 __all__ = [
+    "SUPPORT_ROTATIONS",
     "CellSettings",
     "CellState",
     "LoopCell",
@@ -93,6 +94,11 @@ SQUEEZE_STEPS = 10
 """Steps the rest state's squeeze is first tried in (the path cuts back where needed)."""
 
 
+SUPPORT_ROTATIONS = ("held", "regularized")
+"""How the cell's point support holds the rotation about the period axis
+(`CellSettings.support_rotation`)."""
+
+
 @dataclass(frozen=True)
 class CellSettings:
     """Discretization and modelling choices of the cell.
@@ -108,6 +114,12 @@ class CellSettings:
             r, in (0, 2) (default 1: centrelines at least r apart); states beyond it are
             refused (module docstring).
         contact: contact search settings.
+        support_rotation: how the point support holds the yarn's rotation about the period
+            axis, one of SUPPORT_ROTATIONS: "held" (default) exactly; "regularized" by a spring
+            of stiffness kappa c^2 (kappa the cell's regularizing stiffness, lateral_stiffness
+            EA / c), which holds the rotation where nothing else does (at rest) and otherwise
+            leaves it to the contacts (an issue-28 experiment: docs/patterns.md, "The periodic
+            cut").
     """
 
     control_points: int = 68
@@ -115,12 +127,18 @@ class CellSettings:
     lateral_stiffness: float = 1e-6
     penetration_limit: float = 1.0
     contact: ContactOptions = field(default_factory=ContactOptions)
+    support_rotation: str = "held"
 
     def __post_init__(self):
         check_integer("control_points", self.control_points, 5, limits.CONTROL_POINTS[1])
         check_range("cut", self.cut, 0.0, QUARTERS - 1e-9)
         check_range("lateral_stiffness", self.lateral_stiffness, 0.0, 1.0)
         check_range("penetration_limit", self.penetration_limit, 0.0, 2.0, closed=False)
+        if self.support_rotation not in SUPPORT_ROTATIONS:
+            raise InputError(
+                f"support_rotation={self.support_rotation!r} is unknown; valid: "
+                f"{', '.join(SUPPORT_ROTATIONS)}"
+            )
 
 
 def periodic_patch(
@@ -261,7 +279,18 @@ class LoopCell:
         conditions = [
             Joint(cut, RodEnd(cut.patch, START), offset=self._offset) for cut in self._cuts
         ]
-        conditions.append(PointSupport(0, middle, first_unknown=free, rotation_axes=(period,)))
+        rotation_stiffness = np.inf
+        if settings.support_rotation == "regularized":
+            rotation_stiffness = self._regularization * knit.course_height**2
+        conditions.append(
+            PointSupport(
+                0,
+                middle,
+                first_unknown=free,
+                rotation_axes=(period,),
+                rotation_stiffness=rotation_stiffness,
+            )
+        )
         self.ties = tuple(
             YarnTie(patch, (at - settings.cut) % QUARTERS, self._regularization, self.macro)
             for patch in range(1, len(self.curves))

@@ -35,13 +35,15 @@ EXPERIMENTS_OFF = {
     ("yarn", "torsion"): "bending",
     ("cell", "contact", "lumping"): "line",
     ("cell", "contact", "balance"): False,
+    ("cell", "support_rotation"): "held",
 }
 """Settings of issue 27's experiments (the taut loop: `YarnSettings.prestrain`,
 `natural_length`; the straight yarn: `natural_curvature`; the contact stiffer at first touch:
 `contact_exponent_shift`; the torsion apart from the bending: `torsion`; the point-load reading
-of the contact law: `ContactOptions.lumping`; the balanced contact: `ContactOptions.balance`),
-by their path in `RveSettings`, and the values that switch them off (the model as it was
-before them, bit for bit): left out of the RVE's cache identity at these values
+of the contact law: `ContactOptions.lumping`; the balanced contact: `ContactOptions.balance`)
+and issue 28's (the support that lets go of the rotation: `CellSettings.support_rotation`), by
+their path in `RveSettings`, and the values that switch them off (the model as it was before
+them, bit for bit): left out of the RVE's cache identity at these values
 (`RodRve.cache_identity`), so that the runs and surfaces cached before the fields existed (the
 shipped surface among them) stay valid."""
 

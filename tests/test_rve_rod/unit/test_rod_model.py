@@ -109,7 +109,7 @@ def pinned_model():
     return RodModel(patches, conditions)
 
 
-def periodic_model():
+def periodic_model(rotation_stiffness=np.inf):
     pieces = helix_pieces(2)
     patches = twisted_patches(pieces, SECTION, twist=-0.4)
     lattice = pieces[0].control_points[0] - pieces[1].control_points[-1]
@@ -118,7 +118,13 @@ def periodic_model():
         Joint(RodEnd(0, END), RodEnd(1, START)),
         Joint(RodEnd(1, END), RodEnd(0, START), offset=stretch_offset(stretch, lattice)),
         ForceControl(RodEnd(0, START), np.array([0.0, 0.0, 1.0]), 0.03),
-        PointSupport(1, 0.4, first_unknown=1, rotation_axes=([0.0, 0.0, 2.0], [1.0, 1.0, 0.0])),
+        PointSupport(
+            1,
+            0.4,
+            first_unknown=1,
+            rotation_axes=([0.0, 0.0, 2.0], [1.0, 1.0, 0.0]),
+            rotation_stiffness=rotation_stiffness,
+        ),
     ]
     return RodModel(patches, conditions, extra_unknowns=6, extra_state_scale=0.1)
 
@@ -145,7 +151,14 @@ def finite_difference_jacobian(model, state, load_factor, step=1e-6):
     return np.array(columns).T
 
 
-@pytest.mark.parametrize("build", [open_chain_model, pinned_model, periodic_model])
+def compliant_periodic_model():
+    """The periodic model with its support's rotations held by springs (0.7 N mm / rad)."""
+    return periodic_model(rotation_stiffness=0.7)
+
+
+@pytest.mark.parametrize(
+    "build", [open_chain_model, pinned_model, periodic_model, compliant_periodic_model]
+)
 def test_jacobian_matches_finite_differences(build):
     model = build()
     state = perturbed_state(model, np.random.default_rng(3))
@@ -296,3 +309,9 @@ def test_bad_setups_raise_input_error():
         model.evaluate(np.zeros(3))
     with pytest.raises(InputError, match=r"parameter=1\.5 is outside"):
         model.point_load_weights(0, 1.5)
+
+
+@pytest.mark.parametrize("stiffness", [0.0, -1.0, float("nan")])
+def test_a_support_rotation_stiffness_must_be_positive(stiffness):
+    with pytest.raises(InputError, match=r"rotation_stiffness=.* must be > 0"):
+        PointSupport(0, 0.5, rotation_axes=([1.0, 0.0, 0.0],), rotation_stiffness=stiffness)
