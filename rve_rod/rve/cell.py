@@ -20,8 +20,10 @@ Conditions of the rod model:
 * a `PointSupport` in the middle of the first patch holding its position and its rotation
   about the period axis: the rigid modes of a yarn with one period vector (the support
   reaction is zero up to discretization error and the two-pass contact imbalance; it is
-  reported); the other patches of a pattern's cell are tied to the first by soft springs
-  (`rve_rod.rve.ties`) until their contacts take over;
+  reported; the rotation is a rigid mode only at rest, once loaded the contacts of neighbouring
+  courses hold it and the held rotation carries a moment, so `CellSettings.support_rotation =
+  "regularized"` holds it by a soft spring instead); the other patches of a pattern's cell are
+  tied to the first by soft springs (`rve_rod.rve.ties`) until their contacts take over;
 * `MacroBalance`: zero macro stress conjugate to each free component of F.
 
 A converged state whose largest contact penetration g = 2r - d exceeds the penetration limit
@@ -138,6 +140,11 @@ class CellSettings:
             raise InputError(
                 f"support_rotation={self.support_rotation!r} is unknown; valid: "
                 f"{', '.join(SUPPORT_ROTATIONS)}"
+            )
+        if self.support_rotation == "regularized" and self.lateral_stiffness == 0.0:
+            raise InputError(
+                "support_rotation='regularized' needs lateral_stiffness > 0 (its spring is "
+                "lateral_stiffness EA c); got lateral_stiffness=0"
             )
 
 

@@ -97,3 +97,5 @@ def test_the_regularized_support_is_the_held_one_where_the_cell_holds_no_moment(
 def test_an_unknown_support_rotation_is_refused():
     with pytest.raises(InputError, match="support_rotation='loose' is unknown; valid: held"):
         CellSettings(support_rotation="loose")
+    with pytest.raises(InputError, match="needs lateral_stiffness > 0"):
+        CellSettings(support_rotation="regularized", lateral_stiffness=0.0)
