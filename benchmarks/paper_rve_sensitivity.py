@@ -244,6 +244,16 @@ VARIANTS = (
     Variant("free fibres, balanced contact", FIBRES, balance=True),
     Variant("section, balanced contact", SECTION, balance=True),
     Variant(
+        "free fibres, contact at r0 (squeezed rest), balanced contact",
+        {**FIBRES, "contact_radius": "measured"},
+        balance=True,
+    ),
+    Variant(
+        "free fibres, prestrain eps0 = 2 %, balanced contact",
+        {**FIBRES, "prestrain": 0.02},
+        balance=True,
+    ),
+    Variant(
         "free fibres, parabolic loop, balanced contact", FIBRES, profile="parabolic", balance=True
     ),
     Variant(
