@@ -249,6 +249,16 @@ VARIANTS = (
         balance=True,
     ),
     Variant(
+        "section, contact at r0, balanced contact",
+        {**SECTION, "contact_radius": "measured"},
+        balance=True,
+    ),
+    Variant(
+        "free fibres, contact at r0, frictionless, balanced contact",
+        {**FIBRES, "contact_radius": "measured", "friction": False},
+        balance=True,
+    ),
+    Variant(
         "free fibres, prestrain eps0 = 2 %, balanced contact",
         {**FIBRES, "prestrain": 0.02},
         balance=True,
