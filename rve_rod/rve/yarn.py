@@ -232,9 +232,9 @@ def yarn_model(fabric: Fabric, settings: YarnSettings = YarnSettings()) -> YarnM
     bending = bending_model(fabric, settings.bending)
     torsion = bending if settings.torsion == "bending" else settings.torsion
     sections = {"section": solid}
-    for model in {bending, torsion} - {"section"}:
-        check_bending(fabric, model, "torsion" if model != bending else "bending")
-        sections[model] = _free_fibre_section(solid, fabric, ratio)
+    if "free-fibres" in (bending, torsion):
+        check_bending(fabric, "free-fibres", "bending" if bending == "free-fibres" else "torsion")
+        sections["free-fibres"] = _free_fibre_section(solid, fabric, ratio)
     section = replace(sections[bending], torsion=sections[torsion].torsion)
     friction = None
     if settings.friction and yarn.friction_coefficient > 0.0:
