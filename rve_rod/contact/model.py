@@ -752,9 +752,10 @@ class ContactModel:
         repeat = np.repeat(np.arange(sets.size), width)
         chain = derivatives.chain
         by_deformation = derivatives.deformation.reshape(3, k, 4)
-        tau_by_deformation = np.zeros((k, 4))  # dtau / dF_ab = -C'_a L_b / H
-        for column, (a, b) in enumerate(((0, 0), (0, 1), (1, 0), (1, 1))):
-            tau_by_deformation[:, column] = -state.tangent[a] * active.shift[:, b] / state.metric
+        # dtau / dF_ab = -C'_a L_b / H, columns (F11, F12, F21, F22)
+        tau_by_deformation = -(
+            state.tangent[[0, 0, 1, 1]] * active.shift[:, [0, 1, 0, 1]].T / state.metric
+        ).T
         reaction_by_deformation = (
             by_deformation[:, :, None, :] * value[None, :, :, None]
             + load[:, :, None, None]

@@ -37,6 +37,10 @@ def _at_cut(fabric, name, cut, support_rotation="held"):
     return step
 
 
+def _pattern(name):
+    return dataclasses.replace(COTTON, knit=dataclasses.replace(COTTON.knit, pattern=name))
+
+
 @pytest.mark.parametrize("name", ["uniaxial-course", "uniaxial-wale"])
 def test_jersey_cuts_mirrored_about_the_wale_axis_give_the_same_cell(name):
     before, after = (_at_cut(COTTON, name, cut) for cut in (0.75, 1.25))
@@ -50,16 +54,12 @@ def test_jersey_cuts_mirrored_about_the_wale_axis_give_the_same_cell(name):
 
 
 def test_the_rib_cells_wale_wise_force_at_three_cuts_is_pinned():
-    rib = dataclasses.replace(COTTON, knit=dataclasses.replace(COTTON.knit, pattern="rib1x1"))
+    rib = _pattern("rib1x1")
     measured = {
         f"rib1x1 wale force 10 % cut {cut}": _at_cut(rib, "uniaxial-wale", cut).force_gf_per_cm
         for cut in (0.75, 1.0, 1.25)
     }
     assert_pinned("PATTERN_CUT", measured)
-
-
-def _pattern(name):
-    return dataclasses.replace(COTTON, knit=dataclasses.replace(COTTON.knit, pattern=name))
 
 
 @pytest.mark.parametrize(
