@@ -190,6 +190,13 @@ def collocation_solve(
     n = knots.size - degree - 1
     if basis.spans.size != n:
         raise InputError(f"{basis.spans.size} parameters for {n} basis functions: not square")
+    # Schoenberg-Whitney: B of increasing parameters is regular iff every B_j(u_j) != 0
+    # (checked exactly: LU of a singular B may meet a round-off pivot instead of a zero one)
+    position = np.arange(n) - (basis.spans - degree)
+    within = (position >= 0) & (position <= degree)
+    diagonal = basis.values[0][np.flatnonzero(within), position[within]]
+    if np.any(np.diff(params) <= 0.0) or not within.all() or np.any(diagonal == 0.0):
+        raise InputError("collocation system is singular (Schoenberg-Whitney condition violated)")
     rows = np.repeat(np.arange(n), degree + 1)
     columns = (basis.spans[:, None] - degree + np.arange(degree + 1)[None, :]).ravel()
     if transpose:

@@ -238,5 +238,9 @@ def test_collocation_solve_refuses_singular_and_non_square_systems():
     params[5] = params[6] = 0.5 * (params[5] + params[6])  # two rows alike: singular
     with pytest.raises(InputError, match="singular"):
         collocation_solve(curve.knots, 3, params, np.ones(12))
+    # distinct and increasing, but the last functions vanish where their rows sit
+    crowded = np.linspace(curve.knots[0], curve.knots[5], 12)
+    with pytest.raises(InputError, match="singular"):
+        collocation_solve(curve.knots, 3, crowded, np.ones(12))
     with pytest.raises(InputError, match="not square"):
         collocation_solve(curve.knots, 3, curve.greville()[:-1], np.ones(11))
