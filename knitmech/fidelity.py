@@ -29,7 +29,9 @@ class Fidelity:
         name: the level's name.
         control_points: control points per quarter loop curve of every RVE run (meso runs and
             surface runs alike, so that both see the same yarn model; the paper uses 68; at 20
-            the free-fibre yarn's Poisson ratios are 9-12 % off, at 28 within 3 %).
+            the free-fibre yarn's Poisson ratios are 9-12 % off, at 28 within 3 %; a pattern's
+            cell of several courses runs at least
+            `rve_rod.rve.engine.SEVERAL_COURSES_CONTROL_POINTS`, 36).
         meso_steps: output states of a meso-scale run, the unloaded one included.
         rays: biaxial rays of the surface sampling over the full circle.
         steps_per_ray: output steps along each ray.
