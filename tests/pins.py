@@ -353,6 +353,9 @@ PATTERN_MOMENTS = {  # gf cm / cm, measured at the commit that added them (the c
     "jersey wale M22 10 %": Pin(0.07159144033100524, SOLVED, PATTERNS_DOC),
     "jersey wale M11 20 %": Pin(-0.3669040521131767, SOLVED, PATTERNS_DOC),
     "jersey wale M22 20 %": Pin(0.1814166932061109, SOLVED, PATTERNS_DOC),
+    # at rest, the yarn keeping half its bending set (natural_curvature 0.5; 2026-11-28)
+    "jersey rest M11 s 0.5": Pin(-0.6446719385416708, SOLVED, PATTERNS_DOC),
+    "jersey rest M22 s 0.5": Pin(0.8144212603230286, SOLVED, PATTERNS_DOC),
 }
 PATTERN_CUT = {  # gf/cm, 36 control points, friction, 10 % in 2 steps
     "rib1x1 wale force 10 % cut 0.75": Pin(2.233609650228461, SOLVED, PATTERNS_DOC),

@@ -58,3 +58,18 @@ def test_jersey_bending_moments_are_pinned():
             measured[f"jersey {label} M11 {percent} %"] = moments[step][0]
             measured[f"jersey {label} M22 {percent} %"] = moments[step][1]
     assert_pinned("PATTERN_MOMENTS", measured)
+
+
+def test_jerseys_curl_at_rest_is_pinned():
+    """The moment at rest of the jersey cell whose yarn keeps half its bending set (36 control
+    points; docs/patterns.md, "Curl at rest")."""
+    settings = fabric_settings(COTTON, 36)
+    yarn = dataclasses.replace(settings.yarn, natural_curvature=0.5)
+    result = simulate(
+        COTTON,
+        load_case("uniaxial-course", 0.05, 2),
+        dataclasses.replace(settings, yarn=yarn),
+        moments=True,
+    )
+    m11, m22 = result.steps[0].bending_moment_gf_cm_per_cm
+    assert_pinned("PATTERN_MOMENTS", {"jersey rest M11 s 0.5": m11, "jersey rest M22 s 0.5": m22})

@@ -174,6 +174,52 @@ def test_garter_rib_and_seed_carry_next_to_no_moment(patterns, name):
     assert abs(patterns["seed", name]).max() < 0.05 * jersey
 
 
+def rest_moment(pattern, share, control_points=36):
+    """(M11, M22) at rest (gf cm / cm) of the cotton 5.5 cell whose yarn keeps the share
+    `share` of its bending set (`YarnSettings.natural_curvature`), friction."""
+    preset = load_preset("cotton-20s2", 5.5)
+    fabric = dataclasses.replace(preset, knit=dataclasses.replace(preset.knit, pattern=pattern))
+    settings = fabric_settings(fabric, control_points)
+    yarn = dataclasses.replace(settings.yarn, natural_curvature=share)
+    case = load_case("uniaxial-course", 0.05, 2)
+    result = simulate(fabric, case, dataclasses.replace(settings, yarn=yarn), moments=True)
+    return np.array(result.steps[0].bending_moment_gf_cm_per_cm)
+
+
+def test_a_yarn_that_keeps_half_its_set_curls_jersey_at_rest_and_purl_the_other_way():
+    """The curl at rest (docs/patterns.md, "Curl at rest"): with the yarn's stress-free
+    curvature half the loop's the unloaded jersey cell must be held flat by M11 < 0 < M22, the
+    signs of single jersey's curl (measured -0.645 / +0.814 gf cm / cm at 36 control points),
+    over 20 times the moments of the set-keeping cell at 5 % course-wise (-0.0096 / +0.0234);
+    the purl cell carries -M; garter, which maps onto itself under z -> -z with a shift of one
+    course, carries none."""
+    jersey = rest_moment("jersey", 0.5)
+    assert jersey[0] < 0.0 < jersey[1]
+    assert abs(jersey).min() > 20 * 0.0234
+    np.testing.assert_allclose(rest_moment("reverse-jersey", 0.5), -jersey, atol=1e-8)
+    assert abs(rest_moment("garter", 0.5)).max() < 1e-6 * abs(jersey).max()
+
+
+@pytest.mark.parametrize(("pattern", "share"), [("rib1x1", 0.95), ("seed", 0.98)])
+def test_rib_and_seed_at_rest_carry_under_a_tenth_of_jerseys_moment(pattern, share):
+    """Their templates map onto themselves under z -> -z with a shift of one wale; at rest, with
+    the largest share of the set released that their contacts hold (rib: none at 0.9 and
+    below, seed at 0.95 and below), they carry 6 % and 5 % of jersey's at the same share."""
+    jersey = abs(rest_moment("jersey", share)).max()
+    assert abs(rest_moment(pattern, share)).max() < 0.1 * jersey
+
+
+def test_the_moment_at_rest_converges_at_second_order():
+    """Jersey with half the set, M11 at rest at 36, 68 and 132 control points: -0.645, -0.392,
+    -0.325 gf cm / cm, the differences falling 3.8-fold for 1.9-fold refinement (order 2.1):
+    the balanced level's value is twice the converged one (docs/patterns.md)."""
+    moments = [rest_moment("jersey", 0.5, n)[0] for n in (36, 68, 132)]
+    order = np.log(abs(moments[1] - moments[0]) / abs(moments[2] - moments[1])) / np.log(
+        np.sqrt(132 / 36)
+    )
+    assert 1.5 < order < 3.0
+
+
 def test_moments_per_width_convert_to_gram_force_centimetres_per_centimetre():
     """1 N mm / mm = 0.1 N cm / 0.1 cm = 1 N = 101.97 gf: 101.97 gf cm / cm."""
     assert n_mm_per_mm_to_gf_cm_per_cm(1.0) == pytest.approx(101.9716, rel=1e-6)
