@@ -1,7 +1,9 @@
 """Shared test settings (non-interactive plotting, Open MPI allowed as root) and fixtures."""
 
 import os
+import zlib
 
+import numpy as np
 import pytest
 
 from rve_rod.geometry.loop import loop_geometry
@@ -18,3 +20,13 @@ def cotton_loop():
     r = w/8): built once per session (about 2 s)."""
     fabric = load_preset("cotton-20s2", 5.5)
     return loop_geometry(fabric.knit, fabric.yarn.minimal_radius)
+
+
+@pytest.fixture(autouse=True)
+def _draws_of_the_test_alone(request):
+    """A module's shared `RNG` restarted for every test from a seed of the test's own id, so
+    that what a test draws does not depend on which tests ran before it in the process (the
+    selection, `-k`, the xdist worker): a test that passed or failed with the order of the
+    suite is a test of nothing."""
+    if isinstance(getattr(request.module, "RNG", None), np.random.Generator):
+        request.module.RNG = np.random.default_rng(zlib.crc32(request.node.nodeid.encode()))

@@ -157,15 +157,18 @@ def values_x(spline, x, y):
 
 @pytest.mark.parametrize("order", [1, 2])
 def test_value_and_slope_continuous_across_the_boundary_c1(order):
-    # Jumps across each end shrink linearly with the distance h (C1 but not C2 for k = 1).
+    # Jumps across each end over [end - h, end + h] shrink at least linearly with h as h -> 0
+    # (value and slope continuous: C1); measured on the finest pair of h, where the O(h) term
+    # leads (at h = 1e-2 a large curvature inside can still cancel it: the order over all h
+    # moved with the draw). A jump of a discontinuous value or slope would not shrink.
     spline = random_spline1d(2, 8, extension_order=order)
     steps = np.array([1e-2, 1e-3, 1e-4, 1e-5])
     for end in spline.domain:
         jumps = [spline.derivatives(np.array([end - h, end + h]), 2) for h in steps]
         value_jump = np.array([abs(j[0, 1] - j[0, 0]) for j in jumps])
         slope_jump = np.array([abs(j[1, 1] - j[1, 0]) for j in jumps])
-        assert np.polyfit(np.log(steps), np.log(value_jump), 1)[0] == pytest.approx(1.0, abs=0.05)
-        assert np.polyfit(np.log(steps), np.log(slope_jump), 1)[0] == pytest.approx(1.0, abs=0.05)
+        assert np.log10(value_jump[-2] / value_jump[-1]) > 0.95
+        assert np.log10(slope_jump[-2] / slope_jump[-1]) > 0.95
         # mean value theorem: a jump over [end - h, end + h] is at most 2 h max|next derivative|
         slope, curvature = np.abs(jumps[-1][1]).max(), np.abs(jumps[-1][2]).max()
         assert value_jump[-1] <= 2 * steps[-1] * slope * (1 + 1e-6)
