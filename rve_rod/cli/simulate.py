@@ -16,7 +16,7 @@ from rve_rod.cli.common import (
     fabric_from_args,
     print_json,
 )
-from rve_rod.errors import ConvergenceError
+from rve_rod.errors import ConvergenceError, check_range
 from rve_rod.limits import check_count
 from rve_rod.outputs import check_output_file, check_output_folder, figure_formats
 from rve_rod.rve.cell import CellSettings
@@ -40,9 +40,10 @@ def register(subparsers) -> None:
     parser = subparsers.add_parser(
         "simulate",
         help="run a load case on the knit-loop RVE",
-        description="Load one periodic single-jersey loop (Cosserat rods, frictional contact "
-        "with its periodic neighbours) along a macro load case and report the strain-force "
-        "curve, lateral strain and Poisson ratio (docs/rve.md).",
+        description="Load one periodic knit cell (the single-jersey loop, or the loops of a "
+        "stitch pattern; Cosserat rods, frictional contact with their periodic neighbours) "
+        "along a macro load case and report the strain-force curve, lateral strain, Poisson "
+        "ratio and bending moments (docs/rve.md).",
     )
     add_fabric_arguments(parser)
     parser.add_argument("--case", choices=list(CASES), default="uniaxial-course", help="load case")
@@ -70,6 +71,14 @@ def register(subparsers) -> None:
         default="solid",
         help="I = pi r^4/4 (solid) or the paper's pi r^4/12",
     )
+    parser.add_argument(
+        "--natural-curvature",
+        type=float,
+        default=YarnSettings().natural_curvature,
+        help="the share s of its bending set the yarn keeps, in [0, 1]: its stress-free "
+        "curvature s times the loop's (1: the loop is stress-free; below 1 the unloaded cell "
+        "carries the moment of the curl at rest, docs/patterns.md)",
+    )
     parser.add_argument("--frictionless", action="store_true", help="switch friction off")
     parser.add_argument("--json", action="store_true", help="print one JSON object to stdout")
     parser.add_argument("--plot", help="PNG of the strain-force curve")
@@ -83,6 +92,7 @@ def run_simulate(args: argparse.Namespace) -> int:
     if args.vtk is not None:
         check_output_folder("--vtk", args.vtk)
     check_count("--control-points", args.control_points, limits.CONTROL_POINTS)
+    check_range("--natural-curvature", args.natural_curvature, 0.0, 1.0)
     fabric = fabric_from_args(args)
     strain = args.max_strain
     case = load_case(args.case, strain, args.steps, args.angle)
@@ -96,6 +106,7 @@ def run_simulate(args: argparse.Namespace) -> int:
             second_moment=args.second_moment,
             friction=not args.frictionless,
             bending=bending,
+            natural_curvature=args.natural_curvature,
         ),
     )
     try:

@@ -99,6 +99,18 @@ def test_a_run_beyond_the_penetration_limit_stops_at_it(capsys, caplog):
     assert cutbacks and all(r.levelno == logging.INFO for r in cutbacks)
 
 
+def test_a_yarn_that_keeps_half_its_set_shows_the_curl_at_rest(capsys):
+    """--natural-curvature 0.5: the unloaded jersey cell carries M11 < 0 < M22 (the curl at
+    rest, docs/patterns.md), where the set-keeping yarn's carries none."""
+    moments = {}
+    for share in ("1", "0.5"):
+        extra = ["--natural-curvature", share, "--max-strain", "0.02", "--steps", "2", "--json"]
+        assert main([*ARGS, *extra]) == 0
+        moments[share] = json.loads(capsys.readouterr().out)["bending_moment_gf_cm_per_cm"][0]
+    assert moments["0.5"][0] < 0.0 < moments["0.5"][1]
+    assert np.abs(moments["1"]).max() < 1e-6 * np.abs(moments["0.5"]).max()
+
+
 @pytest.mark.parametrize(
     ("extra", "message"),
     [
@@ -106,6 +118,7 @@ def test_a_run_beyond_the_penetration_limit_stops_at_it(capsys, caplog):
         (["--steps", "1"], "steps=1 is outside the valid range"),
         (["--control-points", "8"], "--control-points=8 is outside the valid range [20, 300]"),
         (["--penetration-limit", "2"], "penetration_limit=2 is outside the valid range (0, 2)"),
+        (["--natural-curvature", "1.5"], "--natural-curvature=1.5 is outside the valid range"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(extra, message, capsys):
