@@ -19,8 +19,6 @@ from rve_rod.rve.load_cases import BiaxialRay, LoadCase, Shear, UniaxialCourse, 
 from rve_rod.rve.simulation import RveSettings, simulate
 from rve_rod.rve.yarn import YarnSettings, bending_model, check_bending
 
-logger = logging.getLogger(__name__)
-
 __all__ = [
     "EXPERIMENTS_OFF",
     "SEVERAL_COURSES_CONTROL_POINTS",
@@ -30,6 +28,8 @@ __all__ = [
     "path_case",
     "surface_engine",
 ]
+
+logger = logging.getLogger(__name__)
 
 EXPERIMENTS_OFF = {
     ("yarn", "prestrain"): 0.0,
