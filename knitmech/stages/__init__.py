@@ -102,6 +102,14 @@ def plan_run(scene: Scene, level: Fidelity) -> RunPlan:
     scene = scene.resolved(level)
     fabric = scene.fabric_model()
     rve = fabric_settings(fabric, scene.meso.control_points, scene.fabric.bending)
+    if rve.cell.control_points != scene.meso.control_points:
+        logger.info(
+            "the RVE runs at %d control points per quarter, not the %d of the scene (fidelity "
+            "%s): its cell of several courses needs them (docs/patterns.md, 'Resolution')",
+            rve.cell.control_points,
+            scene.meso.control_points,
+            level.name,
+        )
     sampling = SamplingPlan(
         rays=scene.surface.rays,
         max_tension=scene.surface.max_strain,

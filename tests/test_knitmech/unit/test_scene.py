@@ -9,6 +9,7 @@ from knitmech.scene import SceneError, default_scene_path, load_scene, scene_fro
 from knitmech.stages import plan_run
 from rve_rod.errors import InputError
 from rve_rod.presets import load_preset
+from rve_rod.rve.engine import SEVERAL_COURSES_CONTROL_POINTS
 
 COTTON = {"fabric": {"preset": "cotton-20s2", "stitch": 5.5}}
 
@@ -151,3 +152,20 @@ def test_a_scene_saved_with_a_byte_order_mark_reads_as_plain_utf8(tmp_path, enco
     path = tmp_path / "scene.toml"
     path.write_bytes(text.encode(encoding))
     assert load_scene(path) == load_scene(default_scene_path())
+
+
+def test_a_cell_of_several_courses_runs_finer_than_the_fast_level_and_the_run_says_so(caplog):
+    """Garter at the fast level: its RVE runs at SEVERAL_COURSES_CONTROL_POINTS, not 28, and
+    the plan logs it where knitmech's progress goes."""
+    scene = scene_from_dict(
+        {"fabric": {"preset": "cotton-20s2", "stitch": 5.5, "pattern": "garter"}}
+    )
+    with caplog.at_level("INFO", logger="knitmech.stages"):
+        plan = plan_run(scene, LEVELS["fast"])
+    assert LEVELS["fast"].control_points == 28
+    assert plan.rve.cell.control_points == SEVERAL_COURSES_CONTROL_POINTS
+    assert "runs at 36 control points per quarter, not the 28 of the scene (fidelity fast)" in (
+        caplog.text
+    )
+    jersey = scene_from_dict({"fabric": {"preset": "cotton-20s2", "stitch": 5.5}})
+    assert plan_run(jersey, LEVELS["fast"]).rve.cell.control_points == 28
