@@ -11,7 +11,9 @@ It needs a fine curve: the bent yarn's rest state resolves slowly (docs/patterns
 relaxed cell"): cotton 20s/2 jersey at stitch 5.5 with a straight yarn collapses in width at
 20 and 36 control points per quarter, and opens from 68 on to w = 1.410 / 1.482 / 1.496 / 1.504
 mm at 68 / 100 / 132 / 200 (c = 1.030 mm), within 1.4 % of the geometric relaxed cell
-(`rve_rod.geometry.relaxed`).
+(`rve_rod.geometry.relaxed`). At other stitch values the path can change branch on the way,
+and where it ends still depends on the resolution at 100-132 (5.0 at 100: w = 2.016 mm, at
+132: 1.325 mm): not yet the relaxed cell the pipeline uses.
 """
 
 import dataclasses
