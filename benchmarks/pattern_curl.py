@@ -76,6 +76,7 @@ def at_rest(preset, args) -> None:
     """The table of the curl at rest (module docstring)."""
     print("| pattern | s | M11 | M22 | P0_11 | P0_22 | time |")
     print("|---|---|---|---|---|---|---|")
+    case = load_case("uniaxial-course", 0.05, 2)  # the rest state is its first state
     for pattern in args.patterns.split(","):
         fabric = dataclasses.replace(preset, knit=dataclasses.replace(preset.knit, pattern=pattern))
         settings = fabric_settings(fabric, args.control_points)
@@ -83,8 +84,6 @@ def at_rest(preset, args) -> None:
             yarn = dataclasses.replace(settings.yarn, natural_curvature=share)
             started = time.perf_counter()
             try:
-                # the rest state is the first state of any load case
-                case = load_case("uniaxial-course", 0.05, 2)
                 chosen = dataclasses.replace(settings, yarn=yarn)
                 result = simulate(fabric, case, chosen, moments=True)
             except ConvergenceError as error:
