@@ -254,6 +254,16 @@ VARIANTS = (
         balance=True,
     ),
     Variant(
+        "section bending, the fibres' torsion, contact at r0, balanced contact",
+        {**SECTION, "torsion": "free-fibres", "contact_radius": "measured"},
+        balance=True,
+    ),
+    Variant(
+        "section I = pi r^4/12, the fibres' torsion, contact at r0, balanced contact",
+        {**PAPER_I_FIBRE_TORSION, "contact_radius": "measured"},
+        balance=True,
+    ),
+    Variant(
         "free fibres, contact at r0, frictionless, balanced contact",
         {**FIBRES, "contact_radius": "measured", "friction": False},
         balance=True,

@@ -64,7 +64,17 @@ from rve_rod.geometry.bspline import BSplineCurve, join
 from rve_rod.geometry.pattern_cell import PeriodicYarns
 from rve_rod.newton import NewtonOptions, NonlinearProblem, solve_path
 from rve_rod.presets import Knit
-from rve_rod.rod import END, START, Joint, Offset, PointSupport, RodEnd, RodModel, RodPatch
+from rve_rod.rod import (
+    END,
+    START,
+    Condition,
+    Joint,
+    Offset,
+    PointSupport,
+    RodEnd,
+    RodModel,
+    RodPatch,
+)
 from rve_rod.rod.layout import DOFS_PER_POINT
 from rve_rod.rve.coupling import ContactCoupling
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase
@@ -225,6 +235,8 @@ class LoopCell:
         yarn: section stiffness and contact laws.
         case: the load case (which components of F are free).
         settings: discretization and modelling choices.
+        extra_conditions: conditions added to the cell's own (claiming no rod ends: a
+            diagnostic constraint, e.g. the held depth of benchmarks/paper_rve_depth.py).
 
     Attributes:
         curves: the reference centrelines of the periodic patches, one per course of the cell.
@@ -246,6 +258,7 @@ class LoopCell:
         yarn: YarnModel,
         case: LoadCase,
         settings: CellSettings = CellSettings(),
+        extra_conditions: tuple[Condition, ...] = (),
     ):
         self.case = case
         self.settings = settings
@@ -304,6 +317,7 @@ class LoopCell:
             for at in TIE_PARAMETERS
         )
         conditions += self.ties
+        conditions += extra_conditions
         if free:
             positions = (DOFS_PER_POINT * np.arange(n)[:, None] + np.arange(3)).ravel()
             conditions.append(

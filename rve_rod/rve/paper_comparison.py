@@ -16,8 +16,9 @@ Poisson ratios at the strains of `paper_data.UNIAXIAL_READINGS`; `secant_at_rest
 stiffness at rest through the first states of their two rays nearest the axes (`axis_rays`);
 `first_increment_ratio` whether a ray starts slack (and stiffens) or taut; `taut_loop_split`
 how much of a stiffness at rest runs through the length of the loop; `loop_profile_runner` any
-of these on a loop of another out-of-plane profile; `loop_extents` the depth and the lengths of
-a run's deformed loop.
+of these on a loop of another out-of-plane profile, `depth_held_runner` on a cell whose depth is
+held from its rest state on (a diagnostic); `loop_extents` the depth and the lengths of a run's
+deformed loop.
 """
 
 import time
@@ -30,9 +31,12 @@ import numpy as np
 from rve_rod.errors import ConvergenceError, InputError
 from rve_rod.geometry.loop import single_jersey_loop
 from rve_rod.presets import Fabric
+from rve_rod.rve.cell import LoopCell
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase, PictureFrameShear, load_case
 from rve_rod.rve.paper_data import GroupRun, biaxial_rays
-from rve_rod.rve.simulation import RveResult, RveSettings, simulate
+from rve_rod.rve.simulation import RveResult, RveSettings, loop_curves, run_cell, simulate
+from rve_rod.rve.ties import DepthHold
+from rve_rod.rve.yarn import yarn_model
 from rve_rod.stress_measures import green_lagrange
 
 __all__ = [
@@ -44,6 +48,7 @@ __all__ = [
     "UniaxialComparison",
     "axis_rays",
     "compare_run",
+    "depth_held_runner",
     "first_increment_ratio",
     "loop_extents",
     "loop_profile_runner",
@@ -214,6 +219,39 @@ def loop_profile_runner(profile: str) -> Runner:
             knit.wale_width, knit.course_height, fabric.yarn.minimal_radius, profile=profile
         )
         return _run_or_history(fabric, case, settings, list(loop.curves))
+
+    return run
+
+
+class _DepthHeldCell(LoopCell):
+    """The loop cell with a `DepthHold` of kappa = alpha EA / c, engaged at its rest state."""
+
+    def __init__(self, curves, knit, yarn, case, settings, alpha: float):
+        self.depth_hold = DepthHold()
+        self.alpha = alpha
+        super().__init__(curves, knit, yarn, case, settings, (self.depth_hold,))
+
+    def rest_state(self, newton, stepping) -> np.ndarray:
+        rest = super().rest_state(newton, stepping)
+        stiffness = self.alpha * self.yarn.section.axial / self._knit.course_height
+        self.depth_hold.hold(self.model, rest, stiffness)
+        return rest
+
+
+def depth_held_runner(alpha: float) -> Runner:
+    """A `Runner` on the model's loop with its depth held from the rest state on by springs of
+    alpha EA / c each (N/mm; `rve_rod.rve.ties.DepthHold`, a diagnostic: docs/validation.md,
+    "The squeezed rest, balanced"); alpha = 0 is the plain cell. Like `run_or_history`, a run
+    that stops early returns its history."""
+
+    def run(fabric: Fabric, case: LoadCase, settings: RveSettings) -> RveResult:
+        yarn = yarn_model(fabric, settings.yarn)
+        curves = loop_curves(fabric)
+        cell = _DepthHeldCell(curves, fabric.knit, yarn, case, settings.cell, alpha)
+        try:
+            return run_cell(cell, fabric, settings)
+        except ConvergenceError as error:
+            return error.history
 
     return run
 

@@ -1,4 +1,5 @@
-"""Soft ties between the yarns of a cell with several courses (garter, moss, supercells).
+"""Soft ties between the yarns of a cell with several courses (garter, moss, supercells), and
+the diagnostic spring that holds a cell's depth.
 
 One yarn of a cell is held against its rigid motion by the point support of the cell
 (`rve_rod.rve.cell`); every other yarn is held only by its contacts with the first and with
@@ -16,6 +17,12 @@ along y, hold the rotation about the course direction too. The ties are internal
 force); their contribution to the macro stress, f_k (x) (X_k - X_0) / A0, is reported with the
 cell's other regularization (`rve_rod.rve.cell.CellState.regularization`), to be checked
 negligible, as kappa H of the free macro components is.
+
+A `DepthHold` is a diagnostic, not a model: springs f_z = -kappa (z - z_rest) that pull points
+of the centrelines (one per control point of each patch, its ends excluded) towards the z they
+had at rest, lumped like the ties. It holds a cell's depth (its extent through the thickness)
+so that an experiment can tell what the loop's thinning does (docs/validation.md, "The squeezed
+rest, balanced"; `rve_rod.rve.paper_comparison.depth_held_runner`).
 """
 
 from dataclasses import dataclass
@@ -27,6 +34,7 @@ from rve_rod.rod.layout import DOFS_PER_POINT
 from rve_rod.rve.macro import MacroDeformation
 
 __all__ = [
+    "DepthHold",
     "YarnTie",
 ]
 
@@ -103,3 +111,57 @@ class YarnTie(Condition):
         """The tie's share of the macro stress, f_k (x) (X_k - X_0) / A0, (2, 2) (N/mm)."""
         gap, offset = self.gap(model, state, load_factor)
         return np.outer(-self.stiffness * gap[:2], offset[:2]) / area
+
+
+class DepthHold(Condition):
+    """Springs f_z = -kappa (z - z_rest) at one point per control point of every patch, its
+    ends excluded (module docstring); off (kappa = 0) until `hold` gives the rest state."""
+
+    def __init__(self):
+        self.stiffness = 0.0
+        self.rest_z: np.ndarray | None = None
+        self._samples: list | None = None
+
+    @property
+    def ends(self) -> tuple[RodEnd, ...]:
+        return ()
+
+    def samples(self, model) -> list:
+        """Per held point: patch, parameter, z columns (p+1,) and basis values (p+1,)."""
+        if self._samples is None:
+            self._samples = []
+            for patch, rod in enumerate(model.patches):
+                low, high = rod.centreline.domain
+                for u in np.linspace(low, high, rod.centreline.n_control_points)[1:-1]:
+                    local, values = model.point_basis(patch, float(u))
+                    columns = model.layout.position_dofs(patch)[local][:, 2]
+                    self._samples.append((patch, float(u), columns, values))
+        return self._samples
+
+    def depths(self, model, state: np.ndarray) -> np.ndarray:
+        """(k,) z of the held points at `state` (mm)."""
+        return np.array([values @ state[columns] for *_, columns, values in self.samples(model)])
+
+    def hold(self, model, rest: np.ndarray, stiffness: float) -> None:
+        """Hold the points at their z in `rest` with springs of `stiffness` kappa (N/mm)."""
+        self.rest_z = self.depths(model, rest)
+        self.stiffness = stiffness
+
+    def evaluate(self, context: ConditionContext, load_factor: float) -> list[Block]:
+        model, state = context.model, context.state
+        current = self.depths(model, state)
+        rest = current if self.rest_z is None else self.rest_z
+        blocks = []
+        for (patch, parameter, columns, values), z, z_rest in zip(
+            self.samples(model), current, rest, strict=True
+        ):
+            lumped = model.point_load_weights(patch, parameter)
+            blocks.append(
+                Block(
+                    DOFS_PER_POINT * lumped.points + 2,
+                    -self.stiffness * (z - z_rest) * lumped.weights,
+                    columns,
+                    -self.stiffness * lumped.weights[:, None] * values[None, :],
+                )
+            )
+        return blocks
