@@ -4,7 +4,9 @@ Reads the sensitivity table of docs/validation.md ("The paper group's RVE", writ
 `benchmarks/paper_rve_sensitivity.py`) and plots, for every variant at one stitch value, our
 uniaxial force at 20 % against the group's (the mean of the README's two readings) on one axis
 and our Poisson ratio against theirs on the other, course-wise and wale-wise: the group's RVE
-is the point (1, 1). Prints the same ratios as a table whose numbers label the points.
+is the point (1, 1). Prints the same ratios as a table whose numbers label the points; a row
+whose run stopped before 20 % (nan) or whose Poisson ratio is not positive (the cell widened:
+a run that snapped) is left off the figure and named.
 
     .venv/bin/python benchmarks/paper_rve_trade.py [--stitch 5.5]
         [--figure docs/figures/paper_rve_trade.png]
@@ -62,11 +64,13 @@ def main():
     if args.figure is None:
         return
     figure, axes = plt.subplots(1, 2, figsize=(11, 5), constrained_layout=True)
+    left_off = set()
     for ax, (force, ratio, title) in zip(
         axes, (("course", "nu12", "course-wise"), ("wale", "nu21", "wale-wise")), strict=True
     ):
         for number, (name, r) in enumerate(rows.items(), 1):
-            if r[force] != r[force] or r[ratio] != r[ratio]:  # nan: our run stopped
+            if not (r[force] > 0 and r[ratio] > 0):  # nan: our run stopped; <= 0: it snapped
+                left_off.add(f"{number} ({title})")
                 continue
             section = name.startswith("section")
             ax.plot(
@@ -98,7 +102,9 @@ def main():
         fontsize=10,
     )
     figure.savefig(args.figure, dpi=150)
-    print(f"figure: {args.figure}")
+    print(
+        f"figure: {args.figure}; left off (a run that stopped, or a ratio <= 0): {sorted(left_off)}"
+    )
 
 
 if __name__ == "__main__":
