@@ -1,13 +1,16 @@
 """The rod cell relaxed as a naturally straight yarn: the relaxed jersey cell by mechanics,
 against the one found among the templates (issue 28, docs/patterns.md "The relaxed cell").
 
-The cotton 20s/2 jersey cell at stitch 5.5 (its measured w, c) with the rods' natural
-curvature taken from the loop's (scale 1, the model as it is) down to a straight yarn (0),
+The cotton 20s/2 jersey cell at stitch 5.5 (its measured w, c; with --start relaxed the
+geometric relaxed cell's, `rve_rod.geometry.relaxed.settled_fabric`, whose yarn per loop is the
+measured loop length and whose yarn radius r = min(r0, w/8) is that cell's own) with the rods'
+natural curvature taken from the loop's (scale 1, the model as it is) down to a straight yarn (0),
 frictionless, the macro F11, F22 free (zero macro stress; with --shear F12 too;
 `rve_rod.rve.relaxation`): a table of the natural curvature's scale, F11, F22 (F12), w, c and
 the largest penetration, until the penetration limit (one radius) stops the path.
 
     .venv/bin/python benchmarks/relaxed_rod_cell.py [--control-points 132] [--shear]
+        [--stitch 5.5] [--start measured|relaxed]
 
 The bent yarn's rest state resolves slowly: at 20 and 36 control points the cell collapses in
 width, from 68 on it opens to the relaxed jersey cell (docs/patterns.md, "The relaxed cell").
@@ -17,6 +20,7 @@ About 20 s at 100 control points, 90 s at 132, 4 min at 200 on the shared machin
 import argparse
 
 from rve_rod.errors import ConvergenceError
+from rve_rod.geometry.relaxed import settled_fabric
 from rve_rod.presets import load_preset
 from rve_rod.rve.relaxation import relax_cell
 
@@ -25,8 +29,17 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--control-points", type=int, default=132)
     parser.add_argument("--shear", action="store_true", help="F12 free as well")
+    parser.add_argument("--stitch", type=float, default=5.5)
+    parser.add_argument(
+        "--start",
+        choices=("measured", "relaxed"),
+        default="measured",
+        help="start from the measured w, c or from the geometric relaxed cell",
+    )
     args = parser.parse_args()
-    fabric = load_preset("cotton-20s2", 5.5)
+    fabric = settled_fabric(
+        load_preset("cotton-20s2", args.stitch), relaxed=args.start == "relaxed"
+    )
     try:
         states, stopped = relax_cell(fabric, args.control_points, shear=args.shear), ""
     except ConvergenceError as error:
