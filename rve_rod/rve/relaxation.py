@@ -11,14 +11,14 @@ It needs a fine curve: the bent yarn's rest state resolves slowly (docs/patterns
 relaxed cell"): cotton 20s/2 jersey at stitch 5.5 with a straight yarn collapses in width at
 20 and 36 control points per quarter, and opens from 68 on to w = 1.410 / 1.482 / 1.496 / 1.504
 mm at 68 / 100 / 132 / 200 (c = 1.030 mm), within 1.4 % of the geometric relaxed cell
-(`rve_rod.geometry.relaxed`). At other stitch values the path can change branch on the way,
-and where it ends still depends on the resolution at 100-132 (5.0 at 100: w = 2.016 mm, at
-132: 1.325 mm). Started from the geometric relaxed cell (`rve_rod.geometry.relaxed.
-settled_fabric(fabric, relaxed=True)`) it changes no branch from stitch 5.0 to 7.0 and
-converges (l/w within 1.2 %, l/c within 0.2 % of 132 from 100 control points on); l/c does not
-depend on the start, w does through the yarn radius r = min(r0, w/8) the start's w gives the
-cell. Not yet the relaxed cell the pipeline uses: the tightest fabric (4.5) still collapses in
-width on the way.
+(`rve_rod.geometry.relaxed`), whose yarn is thicker (r = 0.186 against the start's 0.166
+mm). At other stitch values the path can change branch on the way, and where it ends still
+depends on the resolution at 100-132 (5.0 at 100: w = 2.016 mm, at 132: 1.325 mm). Started
+from the geometric relaxed cell (`rve_rod.geometry.relaxed.settled_fabric(fabric,
+relaxed=True)`) it changes no branch from stitch 5.0 to 7.0 and converges (l/w within 1.2 %,
+l/c within 0.2 % of 132 from 100 control points on); l/c does not depend on the start, w does
+through the yarn radius r = min(r0, w/8) the start's w gives the cell. Not yet the relaxed
+cell the pipeline uses: the tightest fabric (4.5) still collapses in width on the way.
 """
 
 import dataclasses

@@ -138,18 +138,18 @@ class DepthHold(Condition):
                     self._samples.append((patch, float(u), columns, values))
         return self._samples
 
-    def depths(self, model, state: np.ndarray) -> np.ndarray:
+    def z_values(self, model, state: np.ndarray) -> np.ndarray:
         """(k,) z of the held points at `state` (mm)."""
         return np.array([values @ state[columns] for *_, columns, values in self.samples(model)])
 
     def hold(self, model, rest: np.ndarray, stiffness: float) -> None:
         """Hold the points at their z in `rest` with springs of `stiffness` kappa (N/mm)."""
-        self.rest_z = self.depths(model, rest)
+        self.rest_z = self.z_values(model, rest)
         self.stiffness = stiffness
 
     def evaluate(self, context: ConditionContext, load_factor: float) -> list[Block]:
         model, state = context.model, context.state
-        current = self.depths(model, state)
+        current = self.z_values(model, state)
         rest = current if self.rest_z is None else self.rest_z
         blocks = []
         for (patch, parameter, columns, values), z, z_rest in zip(
