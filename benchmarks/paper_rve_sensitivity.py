@@ -20,7 +20,13 @@ table goes into docs/validation.md ("The paper group's RVE"); `benchmarks/paper_
 draws it.
 
     .venv/bin/python benchmarks/paper_rve_sensitivity.py [--control-points 28]
-        [--stitches 4.5,5.5,6.5] [--only NAME ...]
+        [--stitches 4.5,5.5,6.5] [--only NAME ...] [--lateral]
+
+With --lateral, the lateral pull instead, for the rows of LATERAL_ROWS (docs/validation.md,
+"The diagnosis in brief"): along their two rays nearest the axes to their last converged
+states, the stress across the pull at the last state (S22 on the course-wise ray, S11 on the
+wale-wise ray) and the stress along it, ours / theirs (gf/cm): how much of their cell's pull
+across a stretch each ingredient gives (a few seconds a row and stitch value).
 
 A row (three stitch values) took 6-60 s at 28 control points and 30-340 s at 68-132 on the
 shared 2-core machine (2026-11-27, after issue 29).
@@ -45,6 +51,7 @@ from rve_rod.rve.cell import CellSettings, LoopCell
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase
 from rve_rod.rve.paper_comparison import (
     AXIS_RAYS,
+    axis_rays,
     compare_run,
     first_increment_ratio,
     run_or_history,
@@ -423,13 +430,73 @@ def measure(variant: Variant, stitch: float, control_points: int) -> dict:
     }
 
 
+LATERAL_ROWS = (
+    "free fibres (the default)",
+    "section (the paper's ingredients)",
+    "section, I = pi r^4/12",
+    "free fibres, frictionless",
+    "free fibres, friction mu = 1.2",
+    "free fibres, contact stiffness x3",
+    "free fibres, point loads r f_n at the collocation points",
+    "free fibres, parabolic loop",
+    "free fibres, prestrain eps0 = 3 %",
+    "free fibres, tightened loop",
+    "free fibres, contact at r0 (squeezed rest)",
+    "free fibres, contact at r0 (squeezed rest), balanced contact",
+    "free fibres, contact at r0, frictionless, balanced contact",
+    "section I = pi r^4/12, the fibres' torsion, parabolic loop, contact x3",
+)
+"""The rows of the lateral-pull table (--lateral)."""
+
+
+def lateral(variant: Variant, stitch: float, control_points: int) -> str:
+    """Table cells of the lateral pull: per axis ray, across / along at the last converged
+    state, ours / theirs (gf/cm)."""
+    settings = RveSettings(
+        cell=CellSettings(
+            control_points=control_points,
+            contact=ContactOptions(lumping=variant.lumping, balance=variant.balance),
+        ),
+        yarn=YarnSettings(**variant.yarn_settings),
+    )
+    fabric = load_preset("cotton-20s2", stitch)
+    cells = []
+    for ray, (along, across) in zip(axis_rays(stitch), ((0, 1), (1, 0)), strict=True):
+        comparison = compare_run(fabric, ray, settings, runner=runner(variant))
+        if comparison.reached == 0:
+            cells.append("stopped")
+            continue
+        last = comparison.reached - 1
+        ours = units.n_per_mm_to_gf_per_cm(np.diagonal(comparison.second_piola[last]))
+        theirs = units.n_per_mm_to_gf_per_cm(np.diagonal(ray.second_piola[last]))
+        stopped = "" if comparison.reached == comparison.states else f" (state {last + 1})"
+        cells.append(
+            f"{ours[across]:.1f} / {theirs[across]:.1f} ({ours[across] / theirs[across]:.2f}); "
+            f"{ours[along]:.1f} / {theirs[along]:.1f}{stopped}"
+        )
+    return " | ".join(cells)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--control-points", type=int, default=28)
     parser.add_argument("--stitches", default="4.5,5.5,6.5")
     parser.add_argument("--only", nargs="*", help="rows whose name contains one of these")
+    parser.add_argument("--lateral", action="store_true", help="the lateral-pull table")
     args = parser.parse_args()
     stitches = [float(s) for s in args.stitches.split(",")]
+    if args.lateral:
+        print(
+            "| variant | stitch | course-wise ray: S22 across, ours / theirs (ratio); S11 along "
+            "| wale-wise ray: S11 across, ours / theirs (ratio); S22 along |"
+        )
+        print("|---|---:|---|---|")
+        rows = {variant.name: variant for variant in VARIANTS}
+        for name in LATERAL_ROWS:
+            for stitch in stitches:
+                cells = lateral(rows[name], stitch, args.control_points)
+                print(f"| {name} | {stitch:g} | {cells} |", flush=True)
+        return
     print(
         "| variant | stitch | rays within 20 % | median worst error | mean error at the first "
         "state | shear error at 20 / 40 deg | course F 20 % (theirs) | nu12 (theirs) | "

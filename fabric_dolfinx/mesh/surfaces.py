@@ -12,11 +12,11 @@ the tube) or along it, the normal pointing away from the axis. Lengths mm.
 
 import math
 
-import gmsh
 import numpy as np
 import ufl
 from mpi4py import MPI
 
+from fabric_dolfinx.gmsh_api import gmsh
 from fabric_dolfinx.mesh.tagged import TaggedMesh, mesh_gmsh_model
 from rve_rod.errors import check_positive
 

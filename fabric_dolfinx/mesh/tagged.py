@@ -14,11 +14,11 @@ from typing import NamedTuple
 
 import dolfinx.io.gmshio
 import dolfinx.mesh
-import gmsh
 import numpy as np
 from mpi4py import MPI
 
 import fabric_dolfinx.jit  # noqa: F401 (FFCx's compilation safe to interrupt, and quiet)
+from fabric_dolfinx.gmsh_api import gmsh
 from fabric_dolfinx.spec.mesh_checks import check_geo_parameters, check_gmsh_mesh
 from fabric_dolfinx.spec.part import mesh_gmsh_file, physical_groups
 from fabric_dolfinx.spec.shapes import MESH_DIRECTORY

@@ -105,7 +105,7 @@ def read_part_contents(spec: MeshSpec, *, plane: bool = True) -> GmshContents:
     file or built-in shape meshed (`mesh_gmsh_file`, `build_shape`; not the tube), the mesh
     checked (`fabric_dolfinx.spec.mesh_checks.check_gmsh_mesh`, `plane`: a plane part's),
     refined, its physical groups checked (`physical_groups`)."""
-    import gmsh  # noqa: PLC0415 (gmsh only for parts)
+    from fabric_dolfinx.gmsh_api import gmsh  # noqa: PLC0415 (gmsh only for parts)
 
     if spec.file is not None:
         source = Path(spec.file).name
@@ -147,7 +147,7 @@ def read_part_contents(spec: MeshSpec, *, plane: bool = True) -> GmshContents:
 
 def _corners() -> np.ndarray:
     """(m, 4, 2) corner coordinates of the current gmsh model's quadrilaterals (mm)."""
-    import gmsh  # noqa: PLC0415 (gmsh only for parts)
+    from fabric_dolfinx.gmsh_api import gmsh  # noqa: PLC0415 (gmsh only for parts)
 
     tags, xyz, _ = gmsh.model.mesh.getNodes()
     index = np.full(int(tags.max()) + 1 if len(tags) else 1, -1)

@@ -177,7 +177,7 @@ def estimated_geo_cells(budget: int = PART_CELLS) -> float:
     after meshing has the last word. The 1D mesh is removed; `Mesh.MeshSizeMin` is raised to
     half the edge of `budget` square cells filling the bounding box, so that no meshing of
     the model can run away (at most about 4 times the budget, times gmsh's splitting)."""
-    import gmsh  # noqa: PLC0415 (gmsh only for meshes)
+    from fabric_dolfinx.gmsh_api import gmsh  # noqa: PLC0415 (gmsh only for meshes)
 
     box = np.array(gmsh.model.getBoundingBox(-1, -1)).reshape(2, 3)
     extents = np.sort(box[1] - box[0])[::-1]
@@ -298,7 +298,7 @@ def _scaled_jacobians(points: np.ndarray, quads: np.ndarray) -> np.ndarray:
 def check_gmsh_mesh(source: str, refinements: int = 0, *, plane: bool) -> None:
     """InputError when the current gmsh model's 2D mesh has more cells than the budget after
     `refinements`, or listing its `mesh_problems`."""
-    import gmsh  # noqa: PLC0415 (gmsh only for meshes)
+    from fabric_dolfinx.gmsh_api import gmsh  # noqa: PLC0415 (gmsh only for meshes)
 
     tags, xyz, _ = gmsh.model.mesh.getNodes()
     index = np.full(int(tags.max()) + 1 if len(tags) else 1, -1)

@@ -177,7 +177,7 @@ def mesh_gmsh_file(path, refinements: int = 0) -> None:
     its 2D mesh in the current model: a `.geo` file is meshed after its estimated size
     passed the budget with `refinements` (`fabric_dolfinx.spec.mesh_checks`). InputError when
     gmsh cannot read or mesh it."""
-    import gmsh  # noqa: PLC0415 (gmsh only for meshes)
+    from fabric_dolfinx.gmsh_api import gmsh  # noqa: PLC0415 (gmsh only for meshes)
 
     name = Path(path).name
     try:
@@ -203,7 +203,7 @@ def physical_groups(source: str) -> tuple[dict[str, int], dict[str, int]]:
     checking that its 2D elements are 4-node quadrilaterals, that it has a physical surface,
     that no curve (surface) is in two physical curves (surfaces) and that every group has a
     name (InputError naming `source` otherwise)."""
-    import gmsh  # noqa: PLC0415 (gmsh only for meshes)
+    from fabric_dolfinx.gmsh_api import gmsh  # noqa: PLC0415 (gmsh only for meshes)
 
     types = set(gmsh.model.mesh.getElementTypes(2))
     if not types:

@@ -12,8 +12,7 @@ import math
 from collections.abc import Callable
 from pathlib import Path
 
-import gmsh
-
+from fabric_dolfinx.gmsh_api import gmsh
 from fabric_dolfinx.spec.part import MeshSpec, mesh_gmsh_file
 from rve_rod.errors import InputError
 

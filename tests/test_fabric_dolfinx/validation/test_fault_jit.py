@@ -16,24 +16,35 @@ import time
 from pathlib import Path
 
 import pytest
+from support.foreground import foreground
 
 FABRIC_DOLFINX = str(Path(sys.executable).parent / "fabric-dolfinx")
 ARGS = ["tension", "--svk", "10,8,0.3,2", "--elements", "2", "--steps", "2", "--json"]
 
 
 def stop_while_compiling(cache: Path, signum: int) -> subprocess.CompletedProcess:
-    """Start the command in a fresh cache, send `signum` once a `.c` file appears in it."""
+    """Start the command in a fresh cache (in the foreground's signal state:
+    `support.foreground`), send `signum` once a `.c` file appears in it (to the process
+    itself, checked alive just before: `Popen.send_signal` sends nothing to a process that
+    has ended)."""
     environment = {**os.environ, "XDG_CACHE_HOME": str(cache)}
     run = subprocess.Popen(
-        [FABRIC_DOLFINX, *ARGS], stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=environment
+        foreground([FABRIC_DOLFINX, *ARGS]),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        env=environment,
     )
     deadline = time.monotonic() + 60.0
     while not list((cache / "fenics").glob("*.c")):
         assert run.poll() is None and time.monotonic() < deadline, "no compilation to stop"
         time.sleep(0.01)
-    run.send_signal(signum)
+    assert run.poll() is None, "the run ended before the signal could be sent"
+    os.kill(run.pid, signum)
+    signalled = sorted(p.name for p in (cache / "fenics").iterdir())
     out, err = run.communicate(timeout=60)
-    return subprocess.CompletedProcess(run.args, run.returncode, out.decode(), err.decode())
+    stopped = subprocess.CompletedProcess(run.args, run.returncode, out.decode(), err.decode())
+    stopped.signalled = signalled  # the cache when the signal was sent, for a failure's message
+    return stopped
 
 
 @pytest.mark.slow
@@ -50,7 +61,9 @@ def test_a_run_stopped_during_compilation_does_not_break_the_next(
     tmp_path, signum, status, message
 ):
     stopped = stop_while_compiling(tmp_path, signum)
-    assert (stopped.returncode, stopped.stderr) == (status, message)
+    assert (stopped.returncode, stopped.stderr) == (status, message), (
+        f"cache when signalled: {stopped.signalled}; stdout: {stopped.stdout[-500:]!r}"
+    )
     started = time.perf_counter()
     rerun = subprocess.run(
         [FABRIC_DOLFINX, *ARGS],

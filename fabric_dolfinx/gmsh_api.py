@@ -1,0 +1,30 @@
+"""gmsh, imported without taking Ctrl-C away from Python: import it from here.
+
+gmsh 4.8's Python module (Debian 12's python3-gmsh) sets SIGINT to the system's default action
+when it is imported, and gives the previous handler back only in `gmsh.finalize()`. Between the
+import and the first finalize (in `knitmech run`: the whole RVE and surface stages, minutes)
+Ctrl-C killed the process on the spot: no KeyboardInterrupt, so no "interrupted" message and
+exit status 130, no cleanup of a stage's temporary folder, and a SIGINT to the main process
+alone left the RVE executor's worker processes running, orphaned. Importing gmsh here puts the
+handler it replaced back (in the main thread, where handlers can be set), so Ctrl-C unwinds
+the run as it does in `rve-rod`; a long gmsh call is then interrupted when it returns (gmsh
+does not look at Python's signals). A gmsh that leaves SIGINT alone (no `oldsig`) is taken
+as it is.
+"""
+
+import signal
+import threading
+
+import gmsh
+
+__all__ = [
+    "gmsh",
+]
+
+_replaced = getattr(gmsh, "oldsig", None)
+if (
+    _replaced not in (None, signal.SIG_DFL)
+    and signal.getsignal(signal.SIGINT) == signal.SIG_DFL
+    and threading.current_thread() is threading.main_thread()
+):
+    signal.signal(signal.SIGINT, _replaced)
