@@ -379,7 +379,8 @@ def runner(variant: Variant) -> Callable[[Fabric, LoadCase, RveSettings], object
     return run
 
 
-def measure(variant: Variant, stitch: float, control_points: int) -> dict:
+def setup(variant: Variant, stitch: float, control_points: int) -> tuple[Fabric, RveSettings]:
+    """The variant's fabric (cotton 20s/2 at `stitch`, its r0) and settings."""
     settings = RveSettings(
         cell=CellSettings(
             control_points=control_points,
@@ -391,6 +392,11 @@ def measure(variant: Variant, stitch: float, control_points: int) -> dict:
     if variant.minimal_radius is not None:
         yarn = dataclasses.replace(fabric.yarn, minimal_radius=variant.minimal_radius)
         fabric = dataclasses.replace(fabric, yarn=yarn)
+    return fabric, settings
+
+
+def measure(variant: Variant, stitch: float, control_points: int) -> dict:
+    fabric, settings = setup(variant, stitch, control_points)
     run = runner(variant)
     theirs = biaxial_rays(stitch)
     rays = [compare_run(fabric, ray, settings, runner=run) for ray in theirs]
@@ -452,14 +458,7 @@ LATERAL_ROWS = (
 def lateral(variant: Variant, stitch: float, control_points: int) -> str:
     """Table cells of the lateral pull: per axis ray, across / along at the last converged
     state, ours / theirs (gf/cm)."""
-    settings = RveSettings(
-        cell=CellSettings(
-            control_points=control_points,
-            contact=ContactOptions(lumping=variant.lumping, balance=variant.balance),
-        ),
-        yarn=YarnSettings(**variant.yarn_settings),
-    )
-    fabric = load_preset("cotton-20s2", stitch)
+    fabric, settings = setup(variant, stitch, control_points)
     cells = []
     for ray, (along, across) in zip(axis_rays(stitch), ((0, 1), (1, 0)), strict=True):
         comparison = compare_run(fabric, ray, settings, runner=runner(variant))

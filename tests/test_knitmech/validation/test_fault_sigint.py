@@ -19,23 +19,9 @@ from pathlib import Path
 
 import pytest
 from support.foreground import foreground
+from support.processes import processes_mentioning
 
 KNITMECH = str(Path(sys.executable).parent / "knitmech")
-
-
-def processes_mentioning(text: str) -> dict[int, str]:
-    """Process id: command line of the running processes whose command line contains `text`."""
-    found = {}
-    for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit():
-            continue
-        try:
-            command = (entry / "cmdline").read_bytes().replace(b"\0", b" ").decode()
-        except OSError:
-            continue
-        if text in command:
-            found[int(entry.name)] = command
-    return found
 
 
 @pytest.mark.parametrize("module", ["knitmech.cli", "fabric_dolfinx.cli"])

@@ -17,6 +17,7 @@ import time
 from pathlib import Path
 
 import pytest
+from support.processes import processes_mentioning
 
 from knitmech.scene import default_surface_path
 
@@ -42,21 +43,6 @@ ranks = 2
 """A macro stage that lasts well beyond the 0.5 s the test waits after mpirun started (with 4 x 4
 elements and 4 steps it ended within 2 s on a quiet machine, and the signal came after the
 stage was cached)."""
-
-
-def processes_mentioning(text: str) -> list[str]:
-    """Command lines of the running processes that contain `text`."""
-    found = []
-    for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit():
-            continue
-        try:
-            command = (entry / "cmdline").read_bytes().replace(b"\0", b" ").decode()
-        except OSError:
-            continue
-        if text in command:
-            found.append(command)
-    return found
 
 
 def ended_early(run: subprocess.Popen) -> str:
@@ -122,7 +108,7 @@ def interrupt_and_resume(tmp_path, text: str, request: str) -> dict:
     assert run.returncode == 143, stderr
     assert "knitmech run: terminated; run again to resume" in stderr
     assert "Traceback" not in stderr
-    assert processes_mentioning(str(tmp_path)) == []
+    assert processes_mentioning(str(tmp_path)) == {}
     assert list(results.glob(".stage-*")) == []
 
     rerun = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False)
