@@ -10,6 +10,7 @@ The children start with SIGINT at its default action, as a shell starts a comman
 foreground (`support.foreground`).
 """
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -61,4 +62,5 @@ def test_ctrl_c_in_the_surface_stage_unwinds_the_run_and_its_workers(tmp_path):
         if run.poll() is None:
             run.kill()
         for pid in processes_mentioning(str(tmp_path)):  # what a failure left behind
-            os.kill(pid, signal.SIGKILL)
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGKILL)
