@@ -49,6 +49,7 @@ TENSION_RAYS = (6.4, 45.0, 83.6)
 
 
 def measure(stitch: float, alpha: float, control_points: int) -> None:
+    """Print the table's row of `stitch` and `alpha` (module docstring)."""
     settings = RveSettings(
         cell=CellSettings(control_points=control_points, contact=ContactOptions(balance=True)),
         yarn=YarnSettings(bending="free-fibres", contact_radius="measured"),
@@ -61,7 +62,7 @@ def measure(stitch: float, alpha: float, control_points: int) -> None:
         last_result[:] = [held(fabric, case, settings)]
         return last_result[0]
 
-    worst, cells = [], []
+    worst, cells, last = [], [], "-"
     for ray in biaxial_rays(stitch):
         if not ray.converged:
             continue
