@@ -19,19 +19,28 @@ and S12 of their picture-frame shear at its 5th and 13th state.
 r0 enters the law k = 0.01 E0 (r0/r)^8, p = 3 - (r0/r)^3 and the section's scaling (r0/r)^4,
 (r0/r)^6; the loop (r = w/8) does not change. At 4.5, r0 >= 0.2 mm gives p < 1 (refused).
 
-    .venv/bin/python benchmarks/paper_rve_bulge.py [--radius | --support] [--control-points 68]
-        [--figure docs/figures/paper_rve_bulge.png]
+    .venv/bin/python benchmarks/paper_rve_bulge.py [--radius | --support | --budget]
+        [--control-points 68] [--figure docs/figures/paper_rve_bulge.png]
 
 With --support, what holds the cell out of its plane: the point support's z force over the
 largest face force (|reaction|, N) at the first and the last state of both axis rays, for
 BULGE_MODELS: the two-pass contact's out-of-plane imbalance (docs/contact.md), which the support
 carries and which would be zero were action and reaction equal.
 
+With --budget, where the loop found its yarn: at the last converged state of both axis rays,
+for BUDGET_MODELS on the model's band loop, the yarn the affine image of the rest loop would
+need (the demand, % of the loop) and the shares of it that the yarn's stretch, the depth and
+the loop's in-plane shape gave (`paper_comparison.length_budget`), and the stress across the
+stretch (P22 on the course-wise ray, P11 on the wale-wise one) with the shares of it carried by
+the yarn through the periodic cut, the contacts' normal loads and their friction
+(`RveStep.stress_parts`), against their S across.
+
 With --figure, the loop's centreline at rest, at the first and at the last state of that ray at
 stitch 4.5, seen along the course (y, z) and along the wale (x, z), for FIGURE_MODELS.
 
-About a minute (the depth table) and two minutes (--radius) at 68 control points on the shared
-2-core machine (2026-11-28). The tables go into docs/validation.md ("The bulge").
+About a minute (the depth table), two minutes (--radius) and 2.5 minutes (--budget) at 68
+control points on the shared 2-core machine (2026-11-28). The tables go into docs/validation.md
+("The bulge"; --budget: "Where the loop finds its yarn").
 """
 
 import argparse
@@ -41,12 +50,14 @@ import time
 import matplotlib
 import numpy as np
 
+from rve_rod.contact import ContactOptions
 from rve_rod.errors import InputError
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.paper_comparison import (
     axis_rays,
     compare_run,
+    length_budget,
     loop_extents,
     loop_profile_runner,
     run_case,
@@ -79,6 +90,12 @@ BULGE_MODELS = {
         YarnSettings(bending="section", contact_exponent_shift=-0.25),
     ),
 }
+BUDGET_MODELS = {
+    "free fibres (the default)": (YarnSettings(), False),
+    "free fibres, squeezed rest, balanced contact": (YarnSettings(contact_radius="measured"), True),
+    "section (the paper's ingredients)": (YarnSettings(bending="section"), False),
+}
+"""The models of the --budget table: the yarn settings and whether the contact is balanced."""
 SHEAR_STATES = (4, 12)
 """Indices of the picture-frame states whose S12 the --radius table prints."""
 FIGURE_MODELS = (
@@ -196,6 +213,41 @@ def support_table(control_points: int) -> None:
         print(f"| {name} | " + " | ".join(cells) + " |", flush=True)
 
 
+def budget_table(control_points: int) -> None:
+    print(
+        "| model | stitch | ray (deg) | demand (%) | stretch / depth / in-plane shape (% of it) "
+        "| stress across, ours (theirs) (gf/cm) | yarn / contact / friction (% of ours) |"
+    )
+    print("|---|---:|---:|---:|---|---|---|")
+    for name, (yarn, balance) in BUDGET_MODELS.items():
+        cell = CellSettings(control_points=control_points, contact=ContactOptions(balance=balance))
+        settings = RveSettings(cell=cell, yarn=yarn)
+        for stitch in STITCHES:
+            fabric = load_preset("cotton-20s2", stitch)
+            for ray, across in zip(axis_rays(stitch), (1, 0), strict=True):
+                result = loop_profile_runner("band")(fabric, run_case(ray, ray.converged), settings)
+                last = len(result.steps) - 1
+                if last < ray.converged:
+                    print(
+                        f"| {name} | {stitch} | {ray.angle_deg:.1f} | stopped: {result.message} |"
+                    )
+                    continue
+                step = result.steps[last]
+                budget = length_budget(
+                    result.centreline(0), result.centreline(last), step.deformation
+                )
+                parts = np.asarray(step.stress_parts)[:, across, across]
+                shares = " / ".join(f"{100 * part / parts.sum():.0f}" for part in parts)
+                ours = step.second_piola[across]
+                theirs = ray.second_piola[ray.converged - 1, across, across]
+                print(
+                    f"| {name} | {stitch} | {ray.angle_deg:.1f} | {100 * budget.demand:.1f} | "
+                    f"{100 * budget.stretch:.1f} / {100 * budget.depth:.1f} / "
+                    f"{100 * budget.shape:.1f} | {_gf(ours)} ({_gf(theirs)}) | {shares} |",
+                    flush=True,
+                )
+
+
 def _shear_cells(run) -> str:
     """S12 (the symmetric part, gf/cm) ours (theirs) at SHEAR_STATES of the picture frame."""
     picks = [k for k in SHEAR_STATES if k < run.reached]
@@ -250,6 +302,7 @@ def main():
     parser.add_argument("--control-points", type=int, default=68)
     parser.add_argument("--radius", action="store_true", help="the r0 table instead")
     parser.add_argument("--support", action="store_true", help="the support's share instead")
+    parser.add_argument("--budget", action="store_true", help="the loop's length budget instead")
     parser.add_argument("--figure", help="draw the loops at stitch 4.5 into this PNG instead")
     args = parser.parse_args()
     start = time.perf_counter()
@@ -257,6 +310,8 @@ def main():
         figure(args.figure, args.control_points)
     elif args.support:
         support_table(args.control_points)
+    elif args.budget:
+        budget_table(args.control_points)
     else:
         (radius_table if args.radius else depth_table)(args.control_points)
     print(f"\n{time.perf_counter() - start:.0f} s")

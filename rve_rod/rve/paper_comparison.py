@@ -18,7 +18,7 @@ stiffness at rest through the first states of their two rays nearest the axes (`
 how much of a stiffness at rest runs through the length of the loop; `loop_profile_runner` any
 of these on a loop of another out-of-plane profile, `depth_held_runner` on a cell whose depth is
 held from its rest state on (a diagnostic); `loop_extents` the depth and the lengths of a run's
-deformed loop.
+deformed loop, `length_budget` where it found the yarn an affine stretch would need.
 """
 
 import time
@@ -29,6 +29,7 @@ from typing import NamedTuple
 import numpy as np
 
 from rve_rod.errors import ConvergenceError, InputError
+from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.geometry.loop import single_jersey_loop
 from rve_rod.presets import Fabric
 from rve_rod.rve.cell import LoopCell
@@ -42,6 +43,7 @@ from rve_rod.stress_measures import green_lagrange
 __all__ = [
     "AXIS_RAYS",
     "TARGET",
+    "LengthBudget",
     "LoopExtent",
     "RunComparison",
     "TautLoopSplit",
@@ -50,6 +52,7 @@ __all__ = [
     "compare_run",
     "depth_held_runner",
     "first_increment_ratio",
+    "length_budget",
     "loop_extents",
     "loop_profile_runner",
     "run_case",
@@ -349,12 +352,64 @@ def loop_extents(result: RveResult, samples: int = 4001) -> LoopExtent:
     """The depth and the lengths of the first patch's deformed centreline at each output state
     of `result`, from `samples` points evenly spaced in its parameter (`LoopExtent`): where
     the yarn a stretch needs comes from (docs/validation.md, "The bulge")."""
-    depth, in_plane, length = (np.empty(len(result.steps)) for _ in range(3))
-    for step in range(len(result.steps)):
-        curve = result.centreline(step)
-        points = curve(np.linspace(*curve.domain, samples))
-        chords = np.diff(points, axis=0)
-        depth[step] = np.ptp(points[:, 2])
-        in_plane[step] = np.linalg.norm(chords[:, :2], axis=1).sum()
-        length[step] = np.linalg.norm(chords, axis=1).sum()
-    return LoopExtent(depth, in_plane, length)
+    extents = [_curve_extent(result.centreline(step), samples) for step in range(len(result.steps))]
+    return LoopExtent(*(np.array(values) for values in zip(*extents, strict=True)))
+
+
+class LengthBudget(NamedTuple):
+    """Where a deformed loop found the yarn its affine image would need (`length_budget`).
+
+    Attributes:
+        demand: the affine image's length over the rest length, minus 1 (-).
+        stretch: the share of the demand the yarn's own stretch met (-).
+        depth: the share met by yarn given up through the thickness: the affine image's length
+            beyond its in-plane projection less the deformed loop's (-).
+        shape: the share met by the loop's in-plane shape: the affine image's projected
+            length less the deformed loop's (-). The three shares sum to 1.
+    """
+
+    demand: float
+    stretch: float
+    depth: float
+    shape: float
+
+
+def length_budget(
+    rest: BSplineCurve, deformed: BSplineCurve, deformation: np.ndarray, samples: int = 4001
+) -> LengthBudget:
+    """How a loop met the yarn demand of the macro `deformation` (2, 2): its rest centreline
+    mapped by F (z unchanged) is the affine image, whose length over the rest's is the demand;
+    the deformed centreline met it by stretching, by giving up length through the thickness
+    and by changing its in-plane shape (`LengthBudget`; lengths from `samples` points evenly
+    spaced in the parameter). Raises InputError when F demands no yarn (the affine image no
+    longer than the rest)."""
+    f = np.eye(3)
+    f[:2, :2] = np.asarray(deformation, dtype=float)
+    affine = BSplineCurve(rest.degree, rest.knots, rest.control_points @ f.T)
+    (_, _, rest_length), (_, plane, length), (_, affine_plane, affine_length) = (
+        _curve_extent(curve, samples) for curve in (rest, deformed, affine)
+    )
+    demand = affine_length - rest_length
+    if demand <= 0.0:
+        raise InputError(
+            f"length_budget needs a deformation whose affine image is longer than the rest loop; "
+            f"F = {f[:2, :2].tolist()} changes its length by {demand:.3g} mm"
+        )
+    return LengthBudget(
+        demand=demand / rest_length,
+        stretch=(length - rest_length) / demand,
+        depth=((affine_length - affine_plane) - (length - plane)) / demand,
+        shape=(affine_plane - plane) / demand,
+    )
+
+
+def _curve_extent(curve: BSplineCurve, samples: int) -> tuple[float, float, float]:
+    """(depth, in-plane length, length) of `curve` from `samples` points evenly spaced in its
+    parameter (mm)."""
+    points = curve(np.linspace(*curve.domain, samples))
+    chords = np.diff(points, axis=0)
+    return (
+        float(np.ptp(points[:, 2])),
+        float(np.linalg.norm(chords[:, :2], axis=1).sum()),
+        float(np.linalg.norm(chords, axis=1).sum()),
+    )

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from rve_rod.errors import InputError
+from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.geometry.loop import single_jersey_loop
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
@@ -12,6 +13,7 @@ from rve_rod.rve.paper_comparison import (
     axis_rays,
     compare_run,
     first_increment_ratio,
+    length_budget,
     loop_extents,
     loop_profile_runner,
     run_case,
@@ -165,3 +167,48 @@ def test_the_loop_extents_at_rest_are_the_templates_depth_and_length(profile):
     assert extent.depth[0] == pytest.approx(loop.depth, rel=0.02)
     assert extent.length[0] == pytest.approx(loop.loop_length, rel=0.005)
     assert np.all(extent.in_plane_length < extent.length)
+
+
+def _polyline(*points) -> BSplineCurve:
+    """The degree-1 B-spline through `points` (a polyline; knots at equal parameter steps)."""
+    inner = np.linspace(0.0, 1.0, len(points))[1:-1]
+    knots = np.concatenate([[0.0, 0.0], inner, [1.0, 1.0]])
+    return BSplineCurve(1, knots, np.array(points, dtype=float))
+
+
+STRETCH = np.diag([1.2, 1.0])
+"""A course-wise stretch by 20 %: the V's span grows from 1 to 1.2 mm."""
+
+
+def test_an_affinely_stretched_loop_meets_the_demand_by_stretching():
+    """The affine image itself is the deformed curve: all of the demand is the yarn's stretch.
+    A straight yarn along x stretched by 20 % demands 20 %."""
+    rest = _polyline((0, 0, 0), (0.5, 0, 0), (1, 0, 0))
+    budget = length_budget(rest, _polyline((0, 0, 0), (0.6, 0, 0), (1.2, 0, 0)), STRETCH)
+    assert budget.demand == pytest.approx(0.2, rel=1e-9)
+    assert (budget.stretch, budget.depth, budget.shape) == pytest.approx((1, 0, 0), abs=1e-9)
+
+
+@pytest.mark.parametrize(("axis", "share"), [(2, "depth"), (1, "shape")])
+def test_a_v_that_opens_at_its_length_gives_up_its_depth_or_its_shape(axis, share):
+    """A V of span 1 and height 0.6 (legs 0.781 mm) stretched to span 1.2 at its own length:
+    its height falls to sqrt(0.61 - 0.36) = 0.5. Raised through the thickness (z), the yarn it
+    needs comes from the depth; raised in the plane (y), from the in-plane shape (F22 = 1:
+    the affine image keeps the height). The demand is the affine V's: 2 sqrt(0.36 + 0.36) / (2
+    sqrt(0.61)) - 1."""
+
+    def vee(half_span, height):
+        apex = [half_span, 0.0, 0.0]
+        apex[axis] = height
+        return _polyline((0, 0, 0), apex, (2 * half_span, 0, 0))
+
+    budget = length_budget(vee(0.5, 0.6), vee(0.6, 0.5), STRETCH)
+    assert budget.demand == pytest.approx(np.sqrt(0.72 / 0.61) - 1, rel=1e-9)
+    expected = {"stretch": 0.0, "depth": 0.0, "shape": 0.0, share: 1.0}
+    assert budget._asdict() == pytest.approx({"demand": budget.demand, **expected}, abs=1e-9)
+
+
+def test_a_deformation_that_demands_no_yarn_is_refused():
+    rest = _polyline((0, 0, 0), (0.5, 0, 0), (1, 0, 0))
+    with pytest.raises(InputError, match="longer than the rest loop"):
+        length_budget(rest, rest, np.diag([0.9, 1.0]))
