@@ -33,7 +33,9 @@ need (the demand, % of the loop) and the shares of it that the yarn's stretch, t
 the loop's in-plane shape gave (`paper_comparison.length_budget`), and the stress across the
 stretch (P22 on the course-wise ray, P11 on the wale-wise one) with the shares of it carried by
 the yarn through the periodic cut, the contacts' normal loads and their friction
-(`RveStep.stress_parts`), against their S across.
+(`RveStep.stress_parts`), against their S across; the active contacts per collocation point and
+the directions of the contact normals weighted by their force
+(`paper_comparison.contact_directions`).
 
 With --figure, the loop's centreline at rest, at the first and at the last state of that ray at
 stitch 4.5, seen along the course (y, z) and along the wale (x, z), for FIGURE_MODELS.
@@ -57,6 +59,7 @@ from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.paper_comparison import (
     axis_rays,
     compare_run,
+    contact_directions,
     length_budget,
     loop_extents,
     loop_profile_runner,
@@ -216,9 +219,10 @@ def support_table(control_points: int) -> None:
 def budget_table(control_points: int) -> None:
     print(
         "| model | stitch | ray (deg) | demand (%) | stretch / depth / in-plane shape (% of it) "
-        "| stress across, ours (theirs) (gf/cm) | yarn / contact / friction (% of ours) |"
+        "| stress across, ours (theirs) (gf/cm) | yarn / contact / friction (% of ours) "
+        "| active contacts per point | contact normals along x / y / z |"
     )
-    print("|---|---:|---:|---:|---|---|---|")
+    print("|---|---:|---:|---:|---|---|---|---:|---|")
     for name, (yarn, balance) in BUDGET_MODELS.items():
         cell = CellSettings(control_points=control_points, contact=ContactOptions(balance=balance))
         settings = RveSettings(cell=cell, yarn=yarn)
@@ -243,9 +247,21 @@ def budget_table(control_points: int) -> None:
                 print(
                     f"| {name} | {stitch} | {ray.angle_deg:.1f} | {100 * budget.demand:.1f} | "
                     f"{100 * budget.stretch:.1f} / {100 * budget.depth:.1f} / "
-                    f"{100 * budget.shape:.1f} | {_gf(ours)} ({_gf(theirs)}) | {shares} |",
+                    f"{100 * budget.shape:.1f} | {_gf(ours)} ({_gf(theirs)}) | {shares} | "
+                    f"{step.active_contacts / result.curve.n_control_points:.2f} | "
+                    + " / ".join(f"{c:.2f}" for c in _directions(result, last))
+                    + " |",
                     flush=True,
                 )
+
+
+def _directions(result, step: int) -> np.ndarray:
+    """`paper_comparison.contact_directions` of the first patch at output state `step`."""
+    f = np.eye(3)
+    f[:2, :2] = result.steps[step].deformation
+    return contact_directions(
+        result.centreline(step), result.cell_lattice @ f.T, result.yarn.radius, result.yarn.law
+    )
 
 
 def _shear_cells(run) -> str:

@@ -18,7 +18,8 @@ stiffness at rest through the first states of their two rays nearest the axes (`
 how much of a stiffness at rest runs through the length of the loop; `loop_profile_runner` any
 of these on a loop of another out-of-plane profile, `depth_held_runner` on a cell whose depth is
 held from its rest state on (a diagnostic); `loop_extents` the depth and the lengths of a run's
-deformed loop, `length_budget` where it found the yarn an affine stretch would need.
+deformed loop, `length_budget` where it found the yarn an affine stretch would need,
+`contact_directions` which way its contacts push.
 """
 
 import time
@@ -28,6 +29,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from rve_rod.contact import CompressibleYarnLaw
 from rve_rod.errors import ConvergenceError, InputError
 from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.geometry.loop import single_jersey_loop
@@ -50,6 +52,7 @@ __all__ = [
     "UniaxialComparison",
     "axis_rays",
     "compare_run",
+    "contact_directions",
     "depth_held_runner",
     "first_increment_ratio",
     "length_budget",
@@ -401,6 +404,45 @@ def length_budget(
         depth=((affine_length - affine_plane) - (length - plane)) / demand,
         shape=(affine_plane - plane) / demand,
     )
+
+
+def contact_directions(
+    curve: BSplineCurve,
+    lattice: np.ndarray,
+    radius: float,
+    law: CompressibleYarnLaw,
+    samples: int = 1500,
+) -> np.ndarray:
+    """(3,) the mean |n_x|, |n_y|, |n_z| of the contact normals of a periodic yarn, weighted by
+    their normal force: a reconstruction from the centreline `curve` (one period along the
+    first of the deformed `lattice` vectors (2, 3), mm) and not the run's contact search (no
+    region weights, one pass). From each of `samples` points of the yarn, the nearest point
+    of each lattice image within two cells (its own yarn's points within 4 `radius` of arc
+    excluded; a nearest point at an end of the image's period belongs to the neighbouring
+    image) is loaded by `law`'s f_n at g = 2 radius - d. Raises InputError when no two
+    points are in contact."""
+    points = curve(np.linspace(*curve.domain, samples))
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+    period = arc[-1]  # one period: the curve ends where its image along the course starts
+    weighted, total = np.zeros(3), 0.0
+    for i in range(-2, 3):
+        for j in range(-2, 3):
+            offsets = points[:, None, :] - (points[None, :, :] + i * lattice[0] + j * lattice[1])
+            distance = np.linalg.norm(offsets, axis=2)
+            if j == 0:  # the yarn's own continuation along the course
+                distance[np.abs(arc[:, None] - arc[None, :] - i * period) < 4 * radius] = np.inf
+            nearest = distance.argmin(axis=1)
+            d = distance[np.arange(samples), nearest]
+            # a nearest point at an end of the image's period is the neighbouring image's
+            # minimum (or no minimum of the endless yarn): counted there, not here
+            interior = (nearest > 0) & (nearest < samples - 1)
+            load = np.where(interior, law.load_and_slope(2 * radius - d)[0], 0.0)
+            normal = offsets[np.arange(samples), nearest] / d[:, None]
+            weighted += (np.abs(normal) * load[:, None]).sum(axis=0)
+            total += load.sum()
+    if total == 0.0:
+        raise InputError("contact_directions: no point of the yarn is in contact")
+    return weighted / total
 
 
 def _curve_extent(curve: BSplineCurve, samples: int) -> tuple[float, float, float]:

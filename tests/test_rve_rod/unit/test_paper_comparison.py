@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from rve_rod.contact import CompressibleYarnLaw
 from rve_rod.errors import InputError
 from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.geometry.loop import single_jersey_loop
@@ -12,6 +13,7 @@ from rve_rod.rve.paper_comparison import (
     RunComparison,
     axis_rays,
     compare_run,
+    contact_directions,
     first_increment_ratio,
     length_budget,
     loop_extents,
@@ -212,3 +214,38 @@ def test_a_deformation_that_demands_no_yarn_is_refused():
     rest = _polyline((0, 0, 0), (0.5, 0, 0), (1, 0, 0))
     with pytest.raises(InputError, match="longer than the rest loop"):
         length_budget(rest, rest, np.diag([0.9, 1.0]))
+
+
+LAW = CompressibleYarnLaw(stiffness=1.0, exponent=1.5, yarn_radius=0.1)
+
+
+def test_straight_courses_pressed_together_push_along_the_wale():
+    """Straight yarns along the courses, 1.9 r apart along the wale: every contact normal is
+    along y. Their own continuation along the course (the image (1, 0), which the yarn touches
+    end to end) is no contact."""
+    yarn = _polyline((0, 0, 0), (0.5, 0, 0), (1, 0, 0))
+    lattice = np.array([[1.0, 0.0, 0.0], [0.0, 1.9 * LAW.yarn_radius, 0.0]])
+    shares = contact_directions(yarn, lattice, LAW.yarn_radius, LAW)
+    assert shares == pytest.approx([0.0, 1.0, 0.0], abs=1e-12)
+
+
+@pytest.mark.parametrize("angle", [0.0, 30.0, 90.0])
+def test_courses_stacked_at_an_angle_push_along_it(angle):
+    """The same yarns with the next course 1.9 r away at `angle` degrees from the plane
+    (towards z) and shifted 0.3 mm along the course (along the yarn: no change of direction):
+    every normal along (0, cos, sin), up to the sampling: the image's samples fall between the
+    yarn's (1500 samples a period, 6.7e-4 mm apart: a tilt of at most half a spacing over the
+    gap, 0.0018)."""
+    yarn = _polyline((0, 0, 0), (0.5, 0, 0), (1, 0, 0))
+    a = np.radians(angle)
+    gap = 1.9 * LAW.yarn_radius
+    lattice = np.array([[1.0, 0.0, 0.0], [0.3, gap * np.cos(a), gap * np.sin(a)]])
+    shares = contact_directions(yarn, lattice, LAW.yarn_radius, LAW)
+    assert shares == pytest.approx([0.0, np.cos(a), np.sin(a)], abs=2e-3)
+
+
+def test_a_yarn_without_contact_is_refused():
+    yarn = _polyline((0, 0, 0), (0.5, 0, 0), (1, 0, 0))
+    lattice = np.array([[1.0, 0.0, 0.0], [0.0, 3 * LAW.yarn_radius, 0.0]])
+    with pytest.raises(InputError, match="no point of the yarn is in contact"):
+        contact_directions(yarn, lattice, LAW.yarn_radius, LAW)
