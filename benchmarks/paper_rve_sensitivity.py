@@ -15,7 +15,8 @@ reading of the law as a force at each collocation point (`ContactOptions.lumping
 "natural curvature" and "straight yarn" a yarn that keeps no set
 (`YarnSettings.natural_curvature`), the rows "friction mu" the friction coefficient, the rows
 "torsion" the twisting rigidity apart from the bending (`YarnSettings.torsion`), the rows
-"r0 = ..." the yarn's radius in the law and the section's scaling (`Variant.minimal_radius`). The
+"r0 = ..." the yarn's radius in the law and the section's scaling (`Variant.minimal_radius`), the
+row "contact regions off" every distance minimum a full contact (`Variant.region_arc_length`). The
 table goes into docs/validation.md ("The paper group's RVE"); `benchmarks/paper_rve_trade.py`
 draws it.
 
@@ -68,7 +69,8 @@ class Variant(NamedTuple):
     model and the fabric) or the loop, the contact's lumping (`ContactOptions.lumping`) and
     balance (`ContactOptions.balance`), and
     the yarn's r0 (mm) in place of the preset's 0.19 (None: the preset's): the radius of the
-    contact law and of the section's scaling, the loop keeps r = w/8."""
+    contact law and of the section's scaling, the loop keeps r = w/8; the contact regions' arc
+    (`ContactOptions.region_arc_length`, None: the default)."""
 
     name: str
     yarn_settings: dict
@@ -78,6 +80,7 @@ class Variant(NamedTuple):
     balance: bool = False
     tightening: float = 0.04
     minimal_radius: float | None = None
+    region_arc_length: float | None = None
 
 
 def with_exponent(exponent: float) -> Callable[[YarnModel, Fabric], YarnModel]:
@@ -301,6 +304,11 @@ VARIANTS = (
     Variant("section, point loads r f_n at the collocation points", SECTION, lumping="point"),
     Variant("free fibres, point loads r f_n at the collocation points", FIBRES, lumping="point"),
     Variant(
+        "free fibres, contact regions off (every distance minimum a full contact)",
+        FIBRES,
+        region_arc_length=1e-3,
+    ),
+    Variant(
         "free fibres, natural length l, balanced contact",
         {**FIBRES, **MEASURED_LENGTH},
         balance=True,
@@ -413,7 +421,11 @@ def setup(variant: Variant, stitch: float, control_points: int) -> tuple[Fabric,
     settings = RveSettings(
         cell=CellSettings(
             control_points=control_points,
-            contact=ContactOptions(lumping=variant.lumping, balance=variant.balance),
+            contact=ContactOptions(
+                lumping=variant.lumping,
+                balance=variant.balance,
+                region_arc_length=variant.region_arc_length,
+            ),
         ),
         yarn=YarnSettings(**variant.yarn_settings),
     )
@@ -480,6 +492,7 @@ LATERAL_ROWS = (
     "free fibres, contact at r0 (squeezed rest), balanced contact",
     "free fibres, contact at r0, frictionless, balanced contact",
     "section I = pi r^4/12, the fibres' torsion, parabolic loop, contact x3",
+    "free fibres, contact regions off (every distance minimum a full contact)",
 )
 """The rows of the lateral-pull table (--lateral)."""
 
