@@ -21,7 +21,11 @@ table goes into docs/validation.md ("The paper group's RVE"); `benchmarks/paper_
 draws it.
 
     .venv/bin/python benchmarks/paper_rve_sensitivity.py [--control-points 28]
-        [--stitches 4.5,5.5,6.5] [--only NAME ...] [--lateral]
+        [--stitches 4.5,5.5,6.5] [--only NAME ...] [--lateral | --directions]
+
+With --directions, which way the contacts push at the first state of their two rays nearest
+the axes (`paper_comparison.contact_directions`) and the coupling at rest C21 / C11 and C12 /
+C22 (`secant_at_rest`), ours and theirs, for the rows of DIRECTION_ROWS.
 
 With --lateral, the lateral pull instead, for the rows of LATERAL_ROWS (docs/validation.md,
 "The diagnosis in brief"): along their two rays nearest the axes to their last converged
@@ -54,7 +58,9 @@ from rve_rod.rve.paper_comparison import (
     AXIS_RAYS,
     axis_rays,
     compare_run,
+    contact_directions,
     first_increment_ratio,
+    run_case,
     run_or_history,
     secant_at_rest,
     uniaxial_comparison,
@@ -518,14 +524,60 @@ def lateral(variant: Variant, stitch: float, control_points: int) -> str:
     return " | ".join(cells)
 
 
+DIRECTION_ROWS = (
+    "free fibres (the default)",
+    "free fibres, parabolic loop",
+    "free fibres, tightened loop",
+    "free fibres, contact at r0 (squeezed rest), balanced contact",
+    "free fibres, natural length l, contact x3, balanced contact",
+)
+"""The rows of the contact-direction table (--directions)."""
+
+
+def directions(variant: Variant, stitch: float, control_points: int) -> str:
+    """Table cells of the contact directions at the first state of their two rays nearest
+    the axes (`paper_comparison.contact_directions`: |n_x| / |n_y| / |n_z| weighted by the
+    normal force) and the coupling at rest C21 / C11, C12 / C22 (`secant_at_rest`), ours and
+    theirs."""
+    fabric, settings = setup(variant, stitch, control_points)
+    rays = axis_rays(stitch)
+    cells, first = [], []
+    for ray in rays:
+        result = runner(variant)(fabric, run_case(ray, 1), settings)
+        f = np.eye(3)
+        f[:2, :2] = result.steps[1].deformation
+        shares = contact_directions(
+            result.centreline(1), result.cell_lattice @ f.T, result.yarn.radius, result.yarn.law
+        )
+        cells.append(" / ".join(f"{share:.2f}" for share in shares))
+        first.append(np.asarray(result.steps[1].second_piola)[:2])  # S11, S22
+    ours = secant_at_rest(rays, first)
+    theirs = secant_at_rest(rays)
+    coupling = [f"{c[1, 0] / c[0, 0]:.2f}, {c[0, 1] / c[1, 1]:.2f}" for c in (ours, theirs)]
+    return " | ".join([*cells, f"{coupling[0]} ({coupling[1]})"])
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--control-points", type=int, default=28)
     parser.add_argument("--stitches", default="4.5,5.5,6.5")
     parser.add_argument("--only", nargs="*", help="rows whose name contains one of these")
     parser.add_argument("--lateral", action="store_true", help="the lateral-pull table")
+    parser.add_argument("--directions", action="store_true", help="the contact-direction table")
     args = parser.parse_args()
     stitches = [float(s) for s in args.stitches.split(",")]
+    if args.directions:
+        print(
+            "| variant | stitch | course-wise ray: contact normals along x / y / z | wale-wise "
+            "ray: the same | coupling at rest C21 / C11, C12 / C22, ours (theirs) |"
+        )
+        print("|---|---:|---|---|---|")
+        rows = {variant.name: variant for variant in VARIANTS}
+        for name in DIRECTION_ROWS:
+            for stitch in stitches:
+                cells = directions(rows[name], stitch, args.control_points)
+                print(f"| {name} | {stitch:g} | {cells} |", flush=True)
+        return
     if args.lateral:
         print(
             "| variant | stitch | course-wise ray: S22 across, ours / theirs (ratio); S11 along "
