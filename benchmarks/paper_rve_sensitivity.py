@@ -335,6 +335,12 @@ VARIANTS = (
         balance=True,
     ),
     Variant(
+        "free fibres, parabolic loop, natural length l, balanced contact",
+        {**FIBRES, **MEASURED_LENGTH},
+        profile="parabolic",
+        balance=True,
+    ),
+    Variant(
         "free fibres, natural length l, point loads r f_n, balanced contact",
         {**FIBRES, **MEASURED_LENGTH},
         lumping="point",
@@ -499,6 +505,7 @@ LATERAL_ROWS = (
     "free fibres, contact at r0, frictionless, balanced contact",
     "section I = pi r^4/12, the fibres' torsion, parabolic loop, contact x3",
     "free fibres, contact regions off (every distance minimum a full contact)",
+    "free fibres, parabolic loop, natural length l, balanced contact",
 )
 """The rows of the lateral-pull table (--lateral)."""
 
