@@ -564,6 +564,23 @@ def directions(variant: Variant, stitch: float, control_points: int) -> str:
     return " | ".join([*cells, f"{coupling[0]} ({coupling[1]})"])
 
 
+def row_table(
+    header: str,
+    names: tuple[str, ...],
+    cells: Callable[[Variant, float, int], str],
+    stitches: list[float],
+    control_points: int,
+) -> None:
+    """A table of the rows `names` (of VARIANTS) at each stitch value, their `cells`."""
+    print(header)
+    print("|---|---:|" + "---|" * (header.count("|") - 3))
+    rows = {variant.name: variant for variant in VARIANTS}
+    for name in names:
+        for stitch in stitches:
+            row = cells(rows[name], stitch, control_points)
+            print(f"| {name} | {stitch:g} | {row} |", flush=True)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--control-points", type=int, default=28)
@@ -574,28 +591,24 @@ def main():
     args = parser.parse_args()
     stitches = [float(s) for s in args.stitches.split(",")]
     if args.directions:
-        print(
+        row_table(
             "| variant | stitch | course-wise ray: contact normals along x / y / z | wale-wise "
-            "ray: the same | coupling at rest C21 / C11, C12 / C22, ours (theirs) |"
+            "ray: the same | coupling at rest C21 / C11, C12 / C22, ours (theirs) |",
+            DIRECTION_ROWS,
+            directions,
+            stitches,
+            args.control_points,
         )
-        print("|---|---:|---|---|---|")
-        rows = {variant.name: variant for variant in VARIANTS}
-        for name in DIRECTION_ROWS:
-            for stitch in stitches:
-                cells = directions(rows[name], stitch, args.control_points)
-                print(f"| {name} | {stitch:g} | {cells} |", flush=True)
         return
     if args.lateral:
-        print(
+        row_table(
             "| variant | stitch | course-wise ray: S22 across, ours / theirs (ratio); S11 along "
-            "| wale-wise ray: S11 across, ours / theirs (ratio); S22 along |"
+            "| wale-wise ray: S11 across, ours / theirs (ratio); S22 along |",
+            LATERAL_ROWS,
+            lateral,
+            stitches,
+            args.control_points,
         )
-        print("|---|---:|---|---|")
-        rows = {variant.name: variant for variant in VARIANTS}
-        for name in LATERAL_ROWS:
-            for stitch in stitches:
-                cells = lateral(rows[name], stitch, args.control_points)
-                print(f"| {name} | {stitch:g} | {cells} |", flush=True)
         return
     print(
         "| variant | stitch | rays within 20 % | median worst error | mean error at the first "
