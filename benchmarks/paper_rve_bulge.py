@@ -21,6 +21,7 @@ r0 enters the law k = 0.01 E0 (r0/r)^8, p = 3 - (r0/r)^3 and the section's scali
 
     .venv/bin/python benchmarks/paper_rve_bulge.py [--radius | --support | --budget]
         [--control-points 68] [--figure docs/figures/paper_rve_bulge.png]
+        [--contacts-figure docs/figures/paper_rve_contacts.png]
 
 With --support, what holds the cell out of its plane: the point support's z force over the
 largest face force (|reaction|, N) at the first and the last state of both axis rays, for
@@ -37,12 +38,17 @@ the yarn through the periodic cut, the contacts' normal loads and their friction
 the directions of the contact normals weighted by their force
 (`paper_comparison.contact_directions`).
 
+With --contacts-figure, the default's loop at stitch 5.5 at the first and the last state of their
+ray nearest the course axis, seen from the face (x, y) and along the course (y, z), with its
+contacts (`paper_comparison.contact_points`) as arrows of their normal line load, coloured by
+how much of it points along the wale: which way the interlock pushes.
+
 With --figure, the loop's centreline at rest, at the first and at the last state of that ray at
 stitch 4.5, seen along the course (y, z) and along the wale (x, z), for FIGURE_MODELS.
 
 About a minute (the depth table), two minutes (--radius) and 2.5 minutes (--budget) at 68
 control points on the shared 2-core machine (2026-11-28). The tables go into docs/validation.md
-("The bulge"; --budget: "Where the loop finds its yarn").
+("The bulge"; --budget and --contacts-figure: "Where the loop finds its yarn").
 """
 
 import argparse
@@ -60,6 +66,7 @@ from rve_rod.rve.paper_comparison import (
     axis_rays,
     compare_run,
     contact_directions,
+    contact_points,
     length_budget,
     loop_extents,
     loop_profile_runner,
@@ -264,6 +271,71 @@ def _directions(result, step: int) -> np.ndarray:
     )
 
 
+def contacts_figure(path: str, control_points: int) -> None:
+    stitch = 5.5
+    fabric = load_preset("cotton-20s2", stitch)
+    knit = fabric.knit
+    ray = axis_rays(stitch)[0]
+    settings = RveSettings(cell=CellSettings(control_points=control_points))
+    result = loop_profile_runner("band")(fabric, run_case(ray, ray.converged), settings)
+    last = len(result.steps) - 1
+    plot, axes = plt.subplots(
+        2, 2, figsize=(12, 8), gridspec_kw={"height_ratios": (3, 1)}, layout="constrained"
+    )
+    for column, step in enumerate((1, last)):
+        f = np.eye(3)
+        f[:2, :2] = result.steps[step].deformation
+        lattice = result.cell_lattice @ f.T
+        curve = result.centreline(step)
+        points = curve(np.linspace(*curve.domain, 800))
+        contacts = contact_points(curve, lattice, result.yarn.radius, result.yarn.law)
+        shown = slice(None, None, 5)
+        arrows = (contacts.normal * contacts.load[:, None])[shown]
+        scale = np.abs(arrows).max() / 0.3  # the largest load drawn 0.3 mm long
+        shares = contact_directions(curve, lattice, result.yarn.radius, result.yarn.law)
+        for row, (a, b, view) in enumerate(((0, 1, "from the face"), (1, 2, "along the course"))):
+            axis = axes[row, column]
+            for i in (-1, 0, 1):
+                for j in (-1, 0, 1):
+                    shifted = points + i * lattice[0] + j * lattice[1]
+                    mine = (i, j) == (0, 0)
+                    axis.plot(shifted[:, a], shifted[:, b], color="k" if mine else "0.8", lw=1)
+            arrow = axis.quiver(
+                contacts.position[shown, a],
+                contacts.position[shown, b],
+                arrows[:, a],
+                arrows[:, b],
+                np.abs(contacts.normal[shown, 1]),
+                cmap="viridis",
+                clim=(0, 1),
+                angles="xy",
+                scale_units="xy",
+                scale=scale,
+                width=0.003,
+            )
+            axis.set_aspect("equal")
+            low, high = (-0.5 * knit.wale_width, 1.5 * lattice[0, 0]) if a == 0 else (-1.2, 1.2)
+            axis.set_xlim(low, high)
+            axis.set_ylim(*((-1.3, 1.3) if b == 1 else (-0.4, 0.4)))
+            axis.set_xlabel(f"{'xyz'[a]} (mm)")
+            axis.set_ylabel(f"{'xyz'[b]} (mm)")
+            e11 = result.steps[step].green_lagrange[0]
+            title = f"E11 = {e11:.3f}, seen {view}"
+            if row == 0:
+                title += "; force-weighted |n| along x / y / z " + " / ".join(
+                    f"{share:.2f}" for share in shares
+                )
+            axis.set_title(title, fontsize=9)
+    plot.colorbar(arrow, ax=axes, label="|n_y|: how much of a contact's load pushes along the wale")
+    plot.suptitle(
+        f"cotton 20s/2, stitch {stitch}, the default model: the contacts' normal line loads "
+        f"(arrows, every 5th sample) on their {ray.angle_deg:.1f}-degree ray, {control_points} "
+        "control points"
+    )
+    plot.savefig(path, dpi=80)
+    print(f"wrote {path}")
+
+
 def _shear_cells(run) -> str:
     """S12 (the symmetric part, gf/cm) ours (theirs) at SHEAR_STATES of the picture frame."""
     picks = [k for k in SHEAR_STATES if k < run.reached]
@@ -320,10 +392,13 @@ def main():
     parser.add_argument("--support", action="store_true", help="the support's share instead")
     parser.add_argument("--budget", action="store_true", help="the loop's length budget instead")
     parser.add_argument("--figure", help="draw the loops at stitch 4.5 into this PNG instead")
+    parser.add_argument("--contacts-figure", help="draw the contacts at 5.5 into this PNG instead")
     args = parser.parse_args()
     start = time.perf_counter()
     if args.figure:
         figure(args.figure, args.control_points)
+    elif args.contacts_figure:
+        contacts_figure(args.contacts_figure, args.control_points)
     elif args.support:
         support_table(args.control_points)
     elif args.budget:

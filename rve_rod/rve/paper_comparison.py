@@ -19,7 +19,7 @@ how much of a stiffness at rest runs through the length of the loop; `loop_profi
 of these on a loop of another out-of-plane profile, `depth_held_runner` on a cell whose depth is
 held from its rest state on (a diagnostic); `loop_extents` the depth and the lengths of a run's
 deformed loop, `length_budget` where it found the yarn an affine stretch would need,
-`contact_directions` which way its contacts push.
+`contact_points` and `contact_directions` which way its contacts push.
 """
 
 import time
@@ -45,6 +45,7 @@ from rve_rod.stress_measures import green_lagrange
 __all__ = [
     "AXIS_RAYS",
     "TARGET",
+    "ContactPoints",
     "LengthBudget",
     "LoopExtent",
     "RunComparison",
@@ -53,6 +54,7 @@ __all__ = [
     "axis_rays",
     "compare_run",
     "contact_directions",
+    "contact_points",
     "depth_held_runner",
     "first_increment_ratio",
     "length_budget",
@@ -406,25 +408,41 @@ def length_budget(
     )
 
 
-def contact_directions(
+class ContactPoints(NamedTuple):
+    """Contacts of a periodic yarn reconstructed from its centreline (`contact_points`; arrays
+    over k contacts).
+
+    Attributes:
+        position: (k, 3) the yarn's point (mm).
+        normal: (k, 3) unit normal from the touching image's point to the yarn's.
+        load: (k,) the law's normal line load f_n at the penetration (N/mm).
+        image: (k, 2) the lattice image (i, j) touched.
+    """
+
+    position: np.ndarray
+    normal: np.ndarray
+    load: np.ndarray
+    image: np.ndarray
+
+
+def contact_points(
     curve: BSplineCurve,
     lattice: np.ndarray,
     radius: float,
     law: CompressibleYarnLaw,
     samples: int = 1500,
-) -> np.ndarray:
-    """(3,) the mean |n_x|, |n_y|, |n_z| of the contact normals of a periodic yarn, weighted by
-    their normal force: a reconstruction from the centreline `curve` (one period along the
-    first of the deformed `lattice` vectors (2, 3), mm) and not the run's contact search (no
-    region weights, one pass). From each of `samples` points of the yarn, the nearest point
-    of each lattice image within two cells (its own yarn's points within 4 `radius` of arc
-    excluded; a nearest point at an end of the image's period belongs to the neighbouring
-    image) is loaded by `law`'s f_n at g = 2 radius - d. Raises InputError when no two
-    points are in contact."""
+) -> ContactPoints:
+    """The contacts of a periodic yarn with its images, reconstructed from its centreline
+    `curve` (one period along the first of the deformed `lattice` vectors (2, 3), mm), not the
+    run's contact search (no region weights, one pass): from each of `samples` points of the
+    yarn, the nearest point of each lattice image within two cells (its own yarn's points
+    within 4 `radius` of arc excluded; a nearest point at an end of the image's period belongs
+    to the neighbouring image) closer than 2 `radius`, loaded by `law`'s f_n at g = 2 radius - d
+    (`ContactPoints`)."""
     points = curve(np.linspace(*curve.domain, samples))
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
     period = arc[-1]  # one period: the curve ends where its image along the course starts
-    weighted, total = np.zeros(3), 0.0
+    found = []
     for i in range(-2, 3):
         for j in range(-2, 3):
             offsets = points[:, None, :] - (points[None, :, :] + i * lattice[0] + j * lattice[1])
@@ -435,14 +453,28 @@ def contact_directions(
             d = distance[np.arange(samples), nearest]
             # a nearest point at an end of the image's period is the neighbouring image's
             # minimum (or no minimum of the endless yarn): counted there, not here
-            interior = (nearest > 0) & (nearest < samples - 1)
-            load = np.where(interior, law.load_and_slope(2 * radius - d)[0], 0.0)
-            normal = offsets[np.arange(samples), nearest] / d[:, None]
-            weighted += (np.abs(normal) * load[:, None]).sum(axis=0)
-            total += load.sum()
+            touching = np.flatnonzero((d < 2 * radius) & (nearest > 0) & (nearest < samples - 1))
+            normal = offsets[touching, nearest[touching]] / d[touching, None]
+            load = law.load_and_slope(2 * radius - d[touching])[0]
+            found.append((points[touching], normal, load, np.tile((i, j), (touching.size, 1))))
+    return ContactPoints(*(np.concatenate(parts) for parts in zip(*found, strict=True)))
+
+
+def contact_directions(
+    curve: BSplineCurve,
+    lattice: np.ndarray,
+    radius: float,
+    law: CompressibleYarnLaw,
+    samples: int = 1500,
+) -> np.ndarray:
+    """(3,) the mean |n_x|, |n_y|, |n_z| of the contact normals of a periodic yarn, weighted by
+    their normal force (`contact_points`, whose arguments these are). Raises InputError when
+    no two points are in contact."""
+    contacts = contact_points(curve, lattice, radius, law, samples)
+    total = contacts.load.sum()
     if total == 0.0:
         raise InputError("contact_directions: no point of the yarn is in contact")
-    return weighted / total
+    return (np.abs(contacts.normal) * contacts.load[:, None]).sum(axis=0) / total
 
 
 def _curve_extent(curve: BSplineCurve, samples: int) -> tuple[float, float, float]:

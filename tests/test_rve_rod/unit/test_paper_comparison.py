@@ -14,6 +14,7 @@ from rve_rod.rve.paper_comparison import (
     axis_rays,
     compare_run,
     contact_directions,
+    contact_points,
     first_increment_ratio,
     length_budget,
     loop_extents,
@@ -242,6 +243,19 @@ def test_courses_stacked_at_an_angle_push_along_it(angle):
     lattice = np.array([[1.0, 0.0, 0.0], [0.3, gap * np.cos(a), gap * np.sin(a)]])
     shares = contact_directions(yarn, lattice, LAW.yarn_radius, LAW)
     assert shares == pytest.approx([0.0, np.cos(a), np.sin(a)], abs=2e-3)
+
+
+def test_the_contacts_of_straight_courses_are_with_the_next_courses_at_the_laws_load():
+    """Straight courses 1.9 r apart: every point but the period's two ends touches the courses
+    above and below, (0, 1) and (0, -1), pressed by 0.1 r: the law's load there, normals along
+    -y and +y."""
+    yarn = _polyline((0, 0, 0), (0.5, 0, 0), (1, 0, 0))
+    lattice = np.array([[1.0, 0.0, 0.0], [0.0, 1.9 * LAW.yarn_radius, 0.0]])
+    contacts = contact_points(yarn, lattice, LAW.yarn_radius, LAW, samples=101)
+    assert sorted(map(tuple, np.unique(contacts.image, axis=0))) == [(0, -1), (0, 1)]
+    assert contacts.load == pytest.approx(LAW.load_and_slope(0.1 * LAW.yarn_radius)[0])
+    np.testing.assert_allclose(contacts.normal[:, 1], -np.sign(contacts.image[:, 1]), atol=1e-12)
+    assert len(contacts.load) >= 2 * 99
 
 
 def test_a_yarn_without_contact_is_refused():
