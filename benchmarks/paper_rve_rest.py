@@ -10,14 +10,16 @@ and model: C (gf/cm), the coupling C12 C21 / (C11 C22) (1 for a loop of inextens
 deforms only at constant length, 0 for uncoupled directions), k (gf/cm per mm^2), k over the
 affine yarn's EA / (L w c) (the stiffness of the loop's length if the yarn alone carried it,
 EA of the model's rods, L the template's loop length), and the rest (gf/cm; negative where C
-does not fit the form with our a). Then, per stitch value, their C split with the length
-gradient of each of our loop profiles (`OUT_OF_PLANE_PROFILES`: the model's "band" and the
-issue-14 experiment's literature shapes): a1 / a2 and their rest (a negative rest: their C
-does not fit that loop). Last, the same split on the parabolic loop (the one whose gradient
-their C fits at 4.5): theirs and ours (the default model and the variants of
-`PARABOLIC_MODELS`: stiffer contacts, no friction, the pre-loaded rests, the exponent shift, the
-balanced contact) split with its own a, k / affine to four digits. The tables go into
-docs/validation.md ("What the shape of their response says", point 6).
+does not fit the form with our a). Then the same C split with the affine gradient a = (int
+t_x^2 ds, int t_y^2 ds) of the model's loop (`affine_length_gradient`: the loop stretched with
+its shape held, where the yarn's own stretch carries k a a^T). Then, per stitch value, their
+C split with the length gradient of each of our loop profiles (`OUT_OF_PLANE_PROFILES`: the
+model's "band" and the issue-14 experiment's literature shapes): a1 / a2 and their rest (a
+negative rest: their C does not fit that loop). Last, the same split on the parabolic loop
+(the one whose gradient their C fits at 4.5): theirs and ours (the default model and the
+variants of `PARABOLIC_MODELS`: stiffer contacts, no friction, the pre-loaded rests, the
+exponent shift, the balanced contact) split with its own a, k / affine to four digits. The
+tables go into docs/validation.md ("What the shape of their response says", point 6).
 
     .venv/bin/python benchmarks/paper_rve_rest.py [--control-points 68] [--parabolic-only]
 
@@ -30,7 +32,12 @@ import time
 import numpy as np
 
 from rve_rod.contact import ContactOptions
-from rve_rod.geometry.loop import OUT_OF_PLANE_PROFILES, loop_length_gradient, single_jersey_loop
+from rve_rod.geometry.loop import (
+    OUT_OF_PLANE_PROFILES,
+    affine_length_gradient,
+    loop_length_gradient,
+    single_jersey_loop,
+)
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.paper_comparison import (
@@ -87,16 +94,16 @@ PARABOLIC_MODELS = {
 the contact whose passes balance, docs/validation.md, "What pushes the loop out of its plane")."""
 
 
-def _row(stitch, model, stiffness, gradient, affine, digits=3):
+def _row(stitch, model, stiffness, gradient, affine, digits=3) -> str:
+    """The table line of one C split with `gradient` (`taut_loop_split`)."""
     split = taut_loop_split(stiffness, gradient)
     c = n_per_mm_to_gf_per_cm(np.asarray(stiffness))
     k = n_per_mm_to_gf_per_cm(split.stiffness)
     rest = n_per_mm_to_gf_per_cm(split.rest)
-    print(
+    return (
         f"| {stitch} | {model} | {c[0, 0]:.0f} / {c[0, 1]:.0f} / {c[1, 0]:.0f} / {c[1, 1]:.0f} "
         f"| {split.coupling:.2f} | {k:.1f} | {split.stiffness / affine:.{digits}f} "
-        f"| {rest[0]:.0f} / {rest[1]:.0f} |",
-        flush=True,
+        f"| {rest[0]:.0f} / {rest[1]:.0f} |"
     )
 
 
@@ -108,15 +115,18 @@ def main():
     if args.parabolic_only:
         parabolic(args.control_points)
         return
-    print(
+    header = (
         "| stitch | model | C11 / C12 / C21 / C22 (gf/cm) | coupling | k (gf/cm/mm^2) "
         "| k / affine | rest C11, C22 (gf/cm) |\n|---:|---|---|---:|---:|---:|---|"
     )
+    print(header)
+    held = [header]  # the same C split with the affine gradient: the loop's shape held
     for stitch in STITCHES:
         fabric = load_preset("cotton-20s2", stitch)
         w, c = fabric.knit.wale_width, fabric.knit.course_height
         loop = single_jersey_loop(w, c, fabric.yarn.minimal_radius)
         gradient = loop_length_gradient(w, c, loop.yarn_radius)
+        stretched = affine_length_gradient(loop.curves)
         axes = axis_rays(stitch)
         theirs = secant_at_rest(axes)
         yarn = yarn_model(fabric)
@@ -125,7 +135,12 @@ def main():
             f"| {stitch} | a = (w dL/dw, c dL/dc) = ({gradient[0]:.3f}, {gradient[1]:.3f}) mm, "
             f"L = {loop.loop_length:.3f} mm, EA = {yarn.section.axial:.2f} N | | | | | |"
         )
-        _row(stitch, "theirs", theirs, gradient, affine)
+        print(_row(stitch, "theirs", theirs, gradient, affine), flush=True)
+        held.append(
+            f"| {stitch} | a = (int t_x^2 ds, int t_y^2 ds) = ({stretched[0]:.3f}, "
+            f"{stretched[1]:.3f}) mm | | | | | |"
+        )
+        held.append(_row(stitch, "theirs", theirs, stretched, affine))
         for name, yarn_settings in MODELS.items():
             started = time.perf_counter()
             settings = RveSettings(
@@ -133,7 +148,11 @@ def main():
             )
             first = [compare_run(fabric, ray, settings, states=1).second_piola[0] for ray in axes]
             ours = secant_at_rest(axes, [np.diagonal(s) for s in first])
-            _row(stitch, f"{name} ({time.perf_counter() - started:.0f} s)", ours, gradient, affine)
+            label = f"{name} ({time.perf_counter() - started:.0f} s)"
+            print(_row(stitch, label, ours, gradient, affine), flush=True)
+            held.append(_row(stitch, name, ours, stretched, affine))
+    print("\nThe same split with the affine gradient (the loop's shape held):\n")
+    print("\n".join(held))
     profiles()
     parabolic(args.control_points)
 
@@ -171,7 +190,7 @@ def parabolic(control_points: int):
         affine = yarn_model(fabric).section.axial / (loop.loop_length * w * c)
         axes = axis_rays(stitch)
         theirs = secant_at_rest(axes)
-        _row(stitch, "theirs", theirs, gradient, affine, digits=4)
+        print(_row(stitch, "theirs", theirs, gradient, affine, digits=4), flush=True)
         for name, (yarn_settings, contact) in PARABOLIC_MODELS.items():
             started = time.perf_counter()
             settings = RveSettings(
@@ -184,7 +203,7 @@ def parabolic(control_points: int):
             ]
             ours = secant_at_rest(axes, [np.diagonal(s) for s in first])
             label = f"{name} ({time.perf_counter() - started:.0f} s)"
-            _row(stitch, label, ours, gradient, affine, digits=4)
+            print(_row(stitch, label, ours, gradient, affine, digits=4), flush=True)
 
 
 if __name__ == "__main__":

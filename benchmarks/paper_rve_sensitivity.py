@@ -16,9 +16,10 @@ reading of the law as a force at each collocation point (`ContactOptions.lumping
 (`YarnSettings.natural_curvature`), the rows "friction mu" the friction coefficient, the rows
 "torsion" the twisting rigidity apart from the bending (`YarnSettings.torsion`), the rows
 "r0 = ..." the yarn's radius in the law and the section's scaling (`Variant.minimal_radius`), the
-row "contact regions off" every distance minimum a full contact (`Variant.region_arc_length`). The
-table goes into docs/validation.md ("The paper group's RVE"); `benchmarks/paper_rve_trade.py`
-draws it.
+row "contact regions off" every distance minimum a full contact (`Variant.region_arc_length`),
+the row "contacts held" the squeezed rest whose pressed contacts all stick (friction 10, a stiff
+stick). The table goes into docs/validation.md ("The paper group's RVE");
+`benchmarks/paper_rve_trade.py` draws it.
 
     .venv/bin/python benchmarks/paper_rve_sensitivity.py [--control-points 28]
         [--stitches 4.5,5.5,6.5] [--only NAME ...] [--lateral | --directions]
@@ -48,7 +49,7 @@ import numpy as np
 
 from rve_rod import units
 from rve_rod.contact import ContactOptions, CoulombFriction
-from rve_rod.errors import ConvergenceError
+from rve_rod.errors import ConvergenceError, InputError
 from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.geometry.loop import single_jersey_loop
 from rve_rod.presets import Fabric, load_preset
@@ -285,6 +286,12 @@ VARIANTS = (
     Variant(
         "free fibres, contact at r0, frictionless, balanced contact",
         {**FIBRES, "contact_radius": "measured", "friction": False},
+        balance=True,
+    ),
+    Variant(
+        "free fibres, contact at r0, balanced contact, mu = 10, k_t = 10 k (contacts held)",
+        {**FIBRES, "contact_radius": "measured"},
+        with_friction(10.0, 10.0),
         balance=True,
     ),
     Variant(
@@ -537,6 +544,8 @@ DIRECTION_ROWS = (
     "free fibres, tightened loop",
     "free fibres, contact at r0 (squeezed rest), balanced contact",
     "free fibres, natural length l, contact x3, balanced contact",
+    "free fibres, straight yarn (natural curvature 0)",
+    "free fibres, contact at r0, balanced contact, mu = 10, k_t = 10 k (contacts held)",
 )
 """The rows of the contact-direction table (--directions)."""
 
@@ -553,10 +562,14 @@ def directions(variant: Variant, stitch: float, control_points: int) -> str:
         result = runner(variant)(fabric, run_case(ray, 1), settings)
         f = np.eye(3)
         f[:2, :2] = result.steps[1].deformation
-        shares = contact_directions(
-            result.centreline(1), result.cell_lattice @ f.T, result.yarn.radius, result.yarn.law
-        )
-        cells.append(" / ".join(f"{share:.2f}" for share in shares))
+        try:
+            shares = contact_directions(
+                result.centreline(1), result.cell_lattice @ f.T, result.yarn.radius, result.yarn.law
+            )
+        except InputError:  # no point of the yarn within the law's reach at that state
+            cells.append("no contact found")
+        else:
+            cells.append(" / ".join(f"{share:.2f}" for share in shares))
         first.append(np.asarray(result.steps[1].second_piola)[:2])  # S11, S22
     ours = secant_at_rest(rays, first)
     theirs = secant_at_rest(rays)
@@ -570,12 +583,16 @@ def row_table(
     cells: Callable[[Variant, float, int], str],
     stitches: list[float],
     control_points: int,
+    only: list[str] | None = None,
 ) -> None:
-    """A table of the rows `names` (of VARIANTS) at each stitch value, their `cells`."""
+    """A table of the rows `names` (of VARIANTS; with `only`, those whose name contains one of
+    its words) at each stitch value, their `cells`."""
     print(header)
     print("|---|---:|" + "---|" * (header.count("|") - 3))
     rows = {variant.name: variant for variant in VARIANTS}
     for name in names:
+        if only and not any(word in name for word in only):
+            continue
         for stitch in stitches:
             row = cells(rows[name], stitch, control_points)
             print(f"| {name} | {stitch:g} | {row} |", flush=True)
@@ -598,6 +615,7 @@ def main():
             directions,
             stitches,
             args.control_points,
+            args.only,
         )
         return
     if args.lateral:
@@ -608,6 +626,7 @@ def main():
             lateral,
             stitches,
             args.control_points,
+            args.only,
         )
         return
     print(

@@ -270,6 +270,11 @@ TAUT_LOOP_FAST = {
     "5.5 ours coupling": Pin(0.03635925370401677, SOLVED, PAPER),
     "6.5 theirs k / affine": Pin(0.012928719777528182, SOLVED, PAPER),
     "6.5 theirs coupling": Pin(0.14094517583024124, SOLVED, PAPER),
+    # theirs split with the affine gradient of the model's loop (its shape held:
+    # rve_rod.geometry.loop.affine_length_gradient)
+    "4.5 theirs k / affine, shape held": Pin(0.18447110841588024, SOLVED, PAPER),
+    "5.5 theirs k / affine, shape held": Pin(0.045220241477251816, SOLVED, PAPER),
+    "6.5 theirs k / affine, shape held": Pin(0.0076736299732344795, SOLVED, PAPER),
     # the parabolic loop (the issue-14 profile): split with its own length gradient; ours the
     # default model on that loop
     "4.5 parabolic theirs k / affine": Pin(0.320317622014924, SOLVED, PAPER),

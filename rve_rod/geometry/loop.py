@@ -51,6 +51,7 @@ __all__ = [
     "LoopShape",
     "QuarterSamples",
     "adjusted_radius",
+    "affine_length_gradient",
     "loop_geometry",
     "loop_length_gradient",
     "loop_polylines",
@@ -330,6 +331,31 @@ def adjusted_radius(minimal_radius: float, wale_width: float) -> float:
 def loop_geometry(knit: Knit, minimal_radius: float) -> LoopGeometry:
     """The loop of a knit (wale width, course height) with yarn radius r0 (mm)."""
     return single_jersey_loop(knit.wale_width, knit.course_height, minimal_radius)
+
+
+def affine_length_gradient(
+    curves: tuple[BSplineCurve, ...], points_per_span: int = 12
+) -> np.ndarray:
+    """(2,) (dL/dE11, dL/dE22) = (int t_x^2 ds, int t_y^2 ds) (mm): how the length L of the
+    loop `curves` grows with the Green-Lagrange strains E11 and E22 at E = 0 when the loop is
+    stretched affinely, its shape held (t the unit tangent; Gauss-Legendre quadrature per knot
+    span). The counterpart of `loop_length_gradient`, whose loop re-shapes itself into the
+    shortest one at the new w and c. A yarn of axial stiffness EA in a loop that keeps its
+    shape is stretched by (a . E) / L, and its tension T, spread over the cell's area w c,
+    pulls with S = T a / (w c) (the in-plane part of int T t t^T ds / (w c)): the stiffness
+    k a a^T of `paper_comparison.taut_loop_split` with k = EA / (L w c) (docs/validation.md,
+    "What the shape of their response says", point 6)."""
+    nodes, weights = np.polynomial.legendre.leggauss(points_per_span)
+    gradient = np.zeros(2)
+    for curve in curves:
+        edges = curve.breakpoints()
+        half = 0.5 * np.diff(edges)
+        params = (edges[:-1, None] + half[:, None] * (nodes[None, :] + 1.0)).ravel()
+        tangent = curve(params, 1)
+        speed = np.linalg.norm(tangent, axis=1)
+        ds = np.repeat(half, points_per_span) * np.tile(weights, half.size) * speed
+        gradient += ((tangent[:, :2] / speed[:, None]) ** 2 * ds[:, None]).sum(axis=0)
+    return gradient
 
 
 def loop_length_gradient(

@@ -11,7 +11,11 @@ import pytest
 from pins import assert_pinned
 
 from rve_rod.contact import ContactOptions
-from rve_rod.geometry.loop import loop_length_gradient, single_jersey_loop
+from rve_rod.geometry.loop import (
+    affine_length_gradient,
+    loop_length_gradient,
+    single_jersey_loop,
+)
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.paper_comparison import (
@@ -54,6 +58,31 @@ def test_the_stiffness_of_the_loops_length_at_rest_is_pinned():
             continue  # ours has no coupling there (k 0.2 gf/cm/mm^2): nothing to pin but 0
         measured[f"{stitch} ours k / affine"] = ours.stiffness / affine
         measured[f"{stitch} ours coupling"] = ours.coupling
+    assert_pinned("TAUT_LOOP_FAST", measured)
+
+
+def test_their_stiffness_at_rest_fits_the_loop_stretched_with_its_shape_held():
+    """Their C at rest split with the affine gradient of the model's loop (its shape held) has
+    a positive rest at every stitch value, where the re-shaping loop's gradient leaves a
+    negative course-wise rest at 4.5; the yarn's share k / affine grows with the tightness
+    (18 / 4.5 / 0.8 % measured) and is pinned. Their data and our geometry only: no cell run."""
+    measured = {}
+    for stitch in (4.5, 5.5, 6.5):
+        fabric = load_preset("cotton-20s2", stitch)
+        w, c = fabric.knit.wale_width, fabric.knit.course_height
+        loop = single_jersey_loop(w, c, fabric.yarn.minimal_radius)
+        affine = yarn_model(fabric).section.axial / (loop.loop_length * w * c)
+        theirs = secant_at_rest(axis_rays(stitch))
+        held = taut_loop_split(theirs, affine_length_gradient(loop.curves))
+        assert np.all(held.rest > 0)
+        measured[f"{stitch} theirs k / affine, shape held"] = held.stiffness / affine
+        if stitch == 4.5:
+            reshaping = taut_loop_split(theirs, loop_length_gradient(w, c, loop.yarn_radius))
+            assert reshaping.rest[0] < 0
+    assert (
+        measured["4.5 theirs k / affine, shape held"]
+        > 10 * measured["6.5 theirs k / affine, shape held"]
+    )
     assert_pinned("TAUT_LOOP_FAST", measured)
 
 

@@ -1,6 +1,7 @@
 """The loop geometry: the analytic quarter, symmetries, C2 joins, refinement, clearance,
 optimality of the shape parameter, the depth search, bad input."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -14,6 +15,7 @@ from rve_rod.geometry.loop import (
     SHOULDER_ASPECT,
     LoopShape,
     _smallest_clear_depth,
+    affine_length_gradient,
     loop_length_gradient,
     shoulder_radius_bounds,
     single_jersey_loop,
@@ -297,3 +299,22 @@ def test_the_loop_length_gradient_obeys_eulers_relation_of_a_scale_free_loop(pro
 def test_the_loop_length_gradient_refuses_a_yarn_wider_than_the_loop_holds():
     with pytest.raises(InputError, match=r"yarn_radius=0\.2 mm is out of range"):
         loop_length_gradient(1.33, 1.26, 0.2)
+
+
+@pytest.mark.parametrize("profile", ["band", "parabolic"])
+def test_the_affine_length_gradient_is_the_affinely_stretched_loops_growth(profile):
+    """a_i = dL/dE_ii of the loop stretched affinely (B-splines map with their control points),
+    against central differences in E11 and E22."""
+    loop = single_jersey_loop(1.33, 1.26, 0.19, profile=profile)
+    gradient = affine_length_gradient(loop.curves)
+    h = 1e-4
+
+    def length(e11, e22):
+        stretch = np.array([np.sqrt(1 + 2 * e11), np.sqrt(1 + 2 * e22), 1.0])
+        return sum(
+            dataclasses.replace(curve, control_points=curve.control_points * stretch).arc_length()
+            for curve in loop.curves
+        )
+
+    along = [(length(h, 0) - length(-h, 0)) / (2 * h), (length(0, h) - length(0, -h)) / (2 * h)]
+    assert gradient == pytest.approx(along, rel=1e-6)
