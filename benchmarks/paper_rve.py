@@ -1,8 +1,8 @@
 """Our RVE against the paper group's own RVE output (issue 27): tables on stdout, figures.
 
-For each stitch value of `rve_rod.rve.paper_data` (4.5, 5.5, 6.5): our cell along each of their
+For each stitch value of `rve_rod.rve.paper.data` (4.5, 5.5, 6.5): our cell along each of their
 12 biaxial rays and their picture-frame shear, at every converged state of theirs (t = k/20),
-with the error of `rve_rod.rve.paper_comparison` (the largest |S_ab| difference relative to the
+with the error of `rve_rod.rve.paper.comparison` (the largest |S_ab| difference relative to the
 largest stress of their run so far; target 20 %), and our uniaxial runs against the two
 readings of their data (README of rve_rod/data/weeger_group_rve) and the paper's text.
 
@@ -23,8 +23,8 @@ from matplotlib.figure import Figure
 from rve_rod.contact.model import LUMPINGS, ContactOptions
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.paper_comparison import TARGET, compare_run, uniaxial_comparison
-from rve_rod.rve.paper_data import (
+from rve_rod.rve.paper.comparison import TARGET, compare_run, uniaxial_comparison
+from rve_rod.rve.paper.data import (
     PAPER_POISSON_RATIOS,
     STITCH_VALUES,
     UNIAXIAL_READINGS,

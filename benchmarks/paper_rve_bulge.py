@@ -3,7 +3,7 @@
 For cotton 20s/2 at stitch 4.5, 5.5 and 6.5, along the paper group's ray nearest the course
 axis (6.4 degrees: E22 about E11 / 9), run to their last converged state: the loop's depth
 (the centreline's extent through the thickness) and its in-plane length
-(`paper_comparison.loop_extents`) at rest, at the first state (E11 = 0.024) and at the last
+(`paper.comparison.loop_extents`) at rest, at the first state (E11 = 0.024) and at the last
 (E11 = 0.21), with S11, S22 there, ours and theirs (gf/cm), for the models of `BULGE_MODELS`
 (free fibres or the section's rigidity, on the model's band loop or the parabolic loop, with the
 contact exponent shift). A soft loop bulges out of the plane at the first state (its depth
@@ -31,16 +31,16 @@ carries and which would be zero were action and reaction equal.
 With --budget, where the loop found its yarn: at the last converged state of both axis rays,
 for BUDGET_MODELS on the model's band loop, the yarn the affine image of the rest loop would
 need (the demand, % of the loop) and the shares of it that the yarn's stretch, the depth and
-the loop's in-plane shape gave (`paper_comparison.length_budget`), and the stress across the
+the loop's in-plane shape gave (`paper.comparison.length_budget`), and the stress across the
 stretch (P22 on the course-wise ray, P11 on the wale-wise one) with the shares of it carried by
 the yarn through the periodic cut, the contacts' normal loads and their friction
 (`RveStep.stress_parts`), against their S across; the active contacts per collocation point and
 the directions of the contact normals weighted by their force
-(`paper_comparison.contact_directions`).
+(`paper.comparison.contact_directions`).
 
 With --contacts-figure, the default's loop at stitch 5.5 at the first and the last state of their
 ray nearest the course axis, seen from the face (x, y) and along the course (y, z), with its
-contacts (`paper_comparison.contact_points`) as arrows of their normal line load, coloured by
+contacts (`paper.comparison.contact_points`) as arrows of their normal line load, coloured by
 how much of it points along the wale: which way the interlock pushes.
 
 With --figure, the loop's centreline at rest, at the first and at the last state of that ray at
@@ -62,7 +62,7 @@ from rve_rod.contact import ContactOptions
 from rve_rod.errors import InputError
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.paper_comparison import (
+from rve_rod.rve.paper.comparison import (
     axis_rays,
     compare_run,
     contact_directions,
@@ -72,7 +72,7 @@ from rve_rod.rve.paper_comparison import (
     loop_profile_runner,
     run_case,
 )
-from rve_rod.rve.paper_data import shear_run
+from rve_rod.rve.paper.data import shear_run
 from rve_rod.rve.simulation import RveSettings
 from rve_rod.rve.yarn import YarnSettings
 from rve_rod.stress_measures import green_lagrange
@@ -263,7 +263,7 @@ def budget_table(control_points: int) -> None:
 
 
 def _directions(result, step: int) -> np.ndarray:
-    """`paper_comparison.contact_directions` of the first patch at output state `step`."""
+    """`paper.comparison.contact_directions` of the first patch at output state `step`."""
     f = np.eye(3)
     f[:2, :2] = result.steps[step].deformation
     return contact_directions(

@@ -4,7 +4,7 @@ The squeezed and balanced rest state (the contact law at the yarn's own radius r
 `YarnSettings.contact_radius = "measured"`, `ContactOptions.balance`) has the paper group's
 stiffness at rest and then gives way, while its loop thins (depth 0.90 of rest at E11 = 0.21
 on their 6.4-degree ray at 5.5; docs/validation.md, "The squeezed rest, balanced"). Here the
-loop's depth is held by a diagnostic spring (not a model, `paper_comparison.depth_held_runner`):
+loop's depth is held by a diagnostic spring (not a model, `paper.comparison.depth_held_runner`):
 every sampled point of the centreline (one per control point, ends excluded) is pulled towards
 the z it had in the rest state, f_z = -kappa (z - z_rest), kappa = ALPHA EA / c (N/mm per
 point), lumped onto the collocation points like the cell's ties (`rve_rod.rve.ties.DepthHold`).
@@ -12,9 +12,9 @@ If the thinning were what makes the cell give way, the held cell would stay as s
 first state.
 
 For each ALPHA (0: the squeezed, balanced cell itself) at the stitch values asked: along their
-rays nearest 6.4, 45 and 83.6 degrees the error (`paper_comparison`, relative to their largest
+rays nearest 6.4, 45 and 83.6 degrees the error (`paper.comparison`, relative to their largest
 stress so far) at the first and at the last converged state and the loop's depth there over the
-rest state's (`paper_comparison.loop_extents`), then over all their rays the median of the
+rest state's (`paper.comparison.loop_extents`), then over all their rays the median of the
 worst errors, S11 and S22 at the last state of the 6.4-degree ray (ours / theirs, gf/cm), and
 the uniaxial forces and Poisson ratios at 20 %.
 
@@ -33,13 +33,13 @@ from rve_rod.contact import ContactOptions
 from rve_rod.presets import Fabric, load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import LoadCase
-from rve_rod.rve.paper_comparison import (
+from rve_rod.rve.paper.comparison import (
     compare_run,
     depth_held_runner,
     loop_extents,
     uniaxial_comparison,
 )
-from rve_rod.rve.paper_data import biaxial_rays
+from rve_rod.rve.paper.data import biaxial_rays
 from rve_rod.rve.simulation import RveResult, RveSettings
 from rve_rod.rve.yarn import YarnSettings
 from rve_rod.units import n_per_mm_to_gf_per_cm

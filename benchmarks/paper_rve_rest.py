@@ -1,9 +1,9 @@
 """How much of the stiffness at rest runs through the loop's length: theirs and ours (issue 27).
 
 For cotton 20s/2 at stitch 4.5, 5.5 and 6.5: the secant stiffness at rest C (S = C E through
-the first states of the paper group's two rays nearest the axes, `paper_comparison.secant_at_rest`),
+the first states of the paper group's two rays nearest the axes, `paper.comparison.secant_at_rest`),
 theirs and ours (the first state of the same two rays), split by
-`paper_comparison.taut_loop_split` into a part k a a^T that runs through the loop's length
+`paper.comparison.taut_loop_split` into a part k a a^T that runs through the loop's length
 (a = (w dL/dw, c dL/dc) of our minimum-length loop at the fabric's w, c and r:
 `rve_rod.geometry.loop.loop_length_gradient`) and a diagonal rest. Printed per stitch value
 and model: C (gf/cm), the coupling C12 C21 / (C11 C22) (1 for a loop of inextensible yarn that
@@ -40,7 +40,7 @@ from rve_rod.geometry.loop import (
 )
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.paper_comparison import (
+from rve_rod.rve.paper.comparison import (
     axis_rays,
     compare_run,
     loop_profile_runner,

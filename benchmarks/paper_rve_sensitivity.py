@@ -2,7 +2,7 @@
 
 Each row varies ONE ingredient, from the paper's section model (`bending="section"`) or from
 the default (free-fibre bending), and is compared with the group's data at stitch 4.5, 5.5
-and 6.5 (`rve_rod.rve.paper_comparison`): along their 12 biaxial rays at every converged state
+and 6.5 (`rve_rod.rve.paper.comparison`): along their 12 biaxial rays at every converged state
 of theirs (rays within the 20 % target; the median over the rays of each ray's worst error;
 the mean error at the first state, which measures the stiffness at rest; below each row C at
 rest and the median over the rays of `first_increment_ratio`: slack or taut), their picture-frame
@@ -25,7 +25,7 @@ stick). The table goes into docs/validation.md ("The paper group's RVE");
         [--stitches 4.5,5.5,6.5] [--only NAME ...] [--lateral | --directions]
 
 With --directions, which way the contacts push at the first state of their two rays nearest
-the axes (`paper_comparison.contact_directions`) and the coupling at rest C21 / C11 and C12 /
+the axes (`paper.comparison.contact_directions`) and the coupling at rest C21 / C11 and C12 /
 C22 (`secant_at_rest`), ours and theirs, for the rows of DIRECTION_ROWS.
 
 With --lateral, the lateral pull instead, for the rows of LATERAL_ROWS (docs/validation.md,
@@ -55,7 +55,7 @@ from rve_rod.geometry.loop import single_jersey_loop
 from rve_rod.presets import Fabric, load_preset
 from rve_rod.rve.cell import CellSettings, LoopCell
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase
-from rve_rod.rve.paper_comparison import (
+from rve_rod.rve.paper.comparison import (
     AXIS_RAYS,
     axis_rays,
     compare_run,
@@ -66,7 +66,7 @@ from rve_rod.rve.paper_comparison import (
     secant_at_rest,
     uniaxial_comparison,
 )
-from rve_rod.rve.paper_data import UNIAXIAL_READINGS, biaxial_rays, shear_run
+from rve_rod.rve.paper.data import UNIAXIAL_READINGS, biaxial_rays, shear_run
 from rve_rod.rve.simulation import RveSettings, build_cell, loop_curves, run_cell
 from rve_rod.rve.yarn import YarnModel, YarnSettings, yarn_model
 
@@ -552,7 +552,7 @@ DIRECTION_ROWS = (
 
 def directions(variant: Variant, stitch: float, control_points: int) -> str:
     """Table cells of the contact directions at the first state of their two rays nearest
-    the axes (`paper_comparison.contact_directions`: |n_x| / |n_y| / |n_z| weighted by the
+    the axes (`paper.comparison.contact_directions`: |n_x| / |n_y| / |n_z| weighted by the
     normal force) and the coupling at rest C21 / C11, C12 / C22 (`secant_at_rest`), ours and
     theirs."""
     fabric, settings = setup(variant, stitch, control_points)

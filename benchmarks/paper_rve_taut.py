@@ -35,14 +35,14 @@ from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import BiaxialRay
-from rve_rod.rve.paper_comparison import (
+from rve_rod.rve.paper.comparison import (
     axis_rays,
     compare_run,
     run_case,
     run_or_history,
     secant_at_rest,
 )
-from rve_rod.rve.paper_data import biaxial_rays
+from rve_rod.rve.paper.data import biaxial_rays
 from rve_rod.rve.simulation import RveSettings, build_cell, loop_curves
 from rve_rod.rve.yarn import CONTACT_RADII, YarnSettings
 from rve_rod.stress_measures import green_lagrange

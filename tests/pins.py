@@ -241,7 +241,7 @@ BALL_BURST = {
     "apex displacement at 12 mm travel (mm)": Pin(11.921519985385434, SOLVED, SPACE),
 }
 
-# Our RVE along the paper group's runs (issue 27; `rve_rod.rve.paper_comparison.compare_run`):
+# Our RVE along the paper group's runs (issue 27; `rve_rod.rve.paper.comparison.compare_run`):
 # cotton 20s/2 stitch 5.5, 28 control points per quarter loop (the fast level's), the default
 # bending; S in gf/cm at the given state of their run (t = k/20 on a ray, 3.3 degrees per state
 # in shear). Measured on main after the merges of issues 29 and 32 (version 0.3.0).

@@ -343,7 +343,7 @@ def affine_length_gradient(
     shortest one at the new w and c. A yarn of axial stiffness EA in a loop that keeps its
     shape is stretched by (a . E) / L, and its tension T, spread over the cell's area w c,
     pulls with S = T a / (w c) (the in-plane part of int T t t^T ds / (w c)): the stiffness
-    k a a^T of `paper_comparison.taut_loop_split` with k = EA / (L w c) (docs/validation.md,
+    k a a^T of `paper.comparison.taut_loop_split` with k = EA / (L w c) (docs/validation.md,
     "What the shape of their response says", point 6)."""
     nodes, weights = np.polynomial.legendre.leggauss(points_per_span)
     gradient = np.zeros(2)

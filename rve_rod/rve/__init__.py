@@ -4,7 +4,7 @@ Modules: `load_cases` (the macro load cases), `yarn` (the paper's yarn model: ad
 radius, stiffness scalings, contact laws), `cell` (the loop as one periodic rod patch with its
 conditions and rest state), `coupling` (contact with the lattice images as a rod load), `macro`
 (macro deformation and stress P), `simulate` (load stepping, per-step outputs, results),
-`paper_data` and `paper_comparison` (the paper group's RVE output, and ours along it).
+`paper.data` and `paper.comparison` (the paper group's RVE output, and ours along it).
 See docs/rve.md.
 """
 

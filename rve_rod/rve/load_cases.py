@@ -20,7 +20,7 @@ course-wise (x, across the wales), axis 2 wale-wise (y).
 
 The picture-frame shear turns the wale-wise lattice vector by the angle a towards the course
 axis and keeps both lengths (E11 = E22 = 0, E12 = sin(a)/2): the textile picture-frame test,
-and the shear run of the paper group's data (`rve_rod.rve.paper_data`). The off-diagonal
+and the shear run of the paper group's data (`rve_rod.rve.paper.data`). The off-diagonal
 components are held at 0 except in the two shears (the loop is mirror symmetric about
 the wale axis, so normal strains cause no shear stress). A negative strain is compression.
 """

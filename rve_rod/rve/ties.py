@@ -22,7 +22,7 @@ A `DepthHold` is a diagnostic, not a model: springs f_z = -kappa (z - z_rest) th
 of the centrelines (one per control point of each patch, its ends excluded) towards the z they
 had at rest, lumped like the ties. It holds a cell's depth (its extent through the thickness)
 so that an experiment can tell what the loop's thinning does (docs/validation.md, "The squeezed
-rest, balanced"; `rve_rod.rve.paper_comparison.depth_held_runner`).
+rest, balanced"; `rve_rod.rve.paper.comparison.depth_held_runner`).
 """
 
 from dataclasses import dataclass

@@ -13,7 +13,7 @@ from rve_rod.contact import ContactOptions
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.load_cases import load_case
-from rve_rod.rve.paper_comparison import axis_rays, loop_extents, loop_profile_runner, run_case
+from rve_rod.rve.paper.comparison import axis_rays, loop_extents, loop_profile_runner, run_case
 from rve_rod.rve.simulation import RveSettings, simulate
 from rve_rod.rve.yarn import YarnSettings
 

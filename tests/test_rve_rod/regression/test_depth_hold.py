@@ -12,7 +12,7 @@ from rve_rod.contact import ContactOptions
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings, LoopCell
 from rve_rod.rve.load_cases import load_case
-from rve_rod.rve.paper_comparison import (
+from rve_rod.rve.paper.comparison import (
     axis_rays,
     compare_run,
     depth_held_runner,

@@ -10,7 +10,7 @@ import pytest
 
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.paper_comparison import (
+from rve_rod.rve.paper.comparison import (
     axis_rays,
     contact_directions,
     length_budget,

@@ -11,7 +11,7 @@ import pytest
 
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.paper_comparison import axis_rays, loop_extents, loop_profile_runner, run_case
+from rve_rod.rve.paper.comparison import axis_rays, loop_extents, loop_profile_runner, run_case
 from rve_rod.rve.simulation import RveSettings
 from rve_rod.rve.yarn import YarnSettings
 

@@ -7,8 +7,8 @@ from pins import assert_pinned
 
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.paper_comparison import compare_run
-from rve_rod.rve.paper_data import biaxial_rays, shear_run
+from rve_rod.rve.paper.comparison import compare_run
+from rve_rod.rve.paper.data import biaxial_rays, shear_run
 from rve_rod.rve.simulation import RveSettings
 from rve_rod.units import n_per_mm_to_gf_per_cm
 

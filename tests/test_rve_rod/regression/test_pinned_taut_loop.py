@@ -18,7 +18,7 @@ from rve_rod.geometry.loop import (
 )
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.paper_comparison import (
+from rve_rod.rve.paper.comparison import (
     axis_rays,
     compare_run,
     loop_profile_runner,

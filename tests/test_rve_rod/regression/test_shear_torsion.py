@@ -9,8 +9,8 @@ import pytest
 
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.paper_comparison import compare_run, loop_profile_runner
-from rve_rod.rve.paper_data import shear_run
+from rve_rod.rve.paper.comparison import compare_run, loop_profile_runner
+from rve_rod.rve.paper.data import shear_run
 from rve_rod.rve.simulation import RveSettings
 from rve_rod.rve.yarn import YarnSettings
 

@@ -9,7 +9,7 @@ from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.geometry.loop import single_jersey_loop
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.paper_comparison import (
+from rve_rod.rve.paper.comparison import (
     RunComparison,
     axis_rays,
     compare_run,
@@ -23,7 +23,7 @@ from rve_rod.rve.paper_comparison import (
     secant_at_rest,
     taut_loop_split,
 )
-from rve_rod.rve.paper_data import biaxial_rays, shear_run
+from rve_rod.rve.paper.data import biaxial_rays, shear_run
 from rve_rod.rve.simulation import RveSettings
 from rve_rod.stress_measures import green_lagrange
 from rve_rod.units import n_per_mm_to_gf_per_cm

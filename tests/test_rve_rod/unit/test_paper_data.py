@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from rve_rod.errors import InputError
-from rve_rod.rve.paper_comparison import run_case
-from rve_rod.rve.paper_data import (
+from rve_rod.rve.paper.comparison import run_case
+from rve_rod.rve.paper.data import (
     STITCH_VALUES,
     UNIAXIAL_READINGS,
     biaxial_rays,

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from rve_rod.presets import load_preset
-from rve_rod.rve.paper_comparison import axis_rays, compare_run, secant_at_rest
-from rve_rod.rve.paper_data import STITCH_VALUES, shear_run
+from rve_rod.rve.paper.comparison import axis_rays, compare_run, secant_at_rest
+from rve_rod.rve.paper.data import STITCH_VALUES, shear_run
 from rve_rod.rve.simulation import RveSettings
 from rve_rod.rve.yarn import YarnSettings
 

@@ -1,7 +1,7 @@
 """Our RVE along the paper group's runs: the same F at every converged state of theirs.
 
 `compare_run(fabric, run, settings)` runs our cell along a biaxial ray or the picture-frame shear
-of `rve_rod.rve.paper_data` to the last converged state of theirs, with one output state per
+of `rve_rod.rve.paper.data` to the last converged state of theirs, with one output state per
 state of theirs (t = k/20), and measures the difference state by state: at state k,
 
     error_k = max_ab |S_ab(ours) - S_ab(theirs)| / max_{j <= k} max_ab |S_ab(theirs)_j|,
@@ -12,7 +12,7 @@ before is not judged by its own tiny value. A run of ours that stops early is co
 got (the rest is NaN and counts as a failure).
 
 `uniaxial_comparison(fabric, settings)` gives our uniaxial course- and wale-wise forces and
-Poisson ratios at the strains of `paper_data.UNIAXIAL_READINGS`; `secant_at_rest` the secant
+Poisson ratios at the strains of `paper.data.UNIAXIAL_READINGS`; `secant_at_rest` the secant
 stiffness at rest through the first states of their two rays nearest the axes (`axis_rays`);
 `first_increment_ratio` whether a ray starts slack (and stiffens) or taut; `taut_loop_split`
 how much of a stiffness at rest runs through the length of the loop; `loop_profile_runner` any
@@ -36,7 +36,7 @@ from rve_rod.geometry.loop import single_jersey_loop
 from rve_rod.presets import Fabric
 from rve_rod.rve.cell import LoopCell
 from rve_rod.rve.load_cases import BiaxialRay, LoadCase, PictureFrameShear, load_case
-from rve_rod.rve.paper_data import GroupRun, biaxial_rays
+from rve_rod.rve.paper.data import GroupRun, biaxial_rays
 from rve_rod.rve.simulation import RveResult, RveSettings, loop_curves, run_cell, simulate
 from rve_rod.rve.ties import DepthHold
 from rve_rod.rve.yarn import yarn_model
