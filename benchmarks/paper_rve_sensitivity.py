@@ -289,6 +289,11 @@ VARIANTS = (
         balance=True,
     ),
     Variant(
+        "free fibres, straight yarn, contact at r0, balanced contact",
+        {**FIBRES, "natural_curvature": 0.0, "contact_radius": "measured"},
+        balance=True,
+    ),
+    Variant(
         "free fibres, contact at r0, balanced contact, mu = 10, k_t = 10 k (contacts held)",
         {**FIBRES, "contact_radius": "measured"},
         with_friction(10.0, 10.0),
