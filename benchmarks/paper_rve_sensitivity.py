@@ -294,6 +294,10 @@ VARIANTS = (
         balance=True,
     ),
     Variant(
+        "section, straight yarn, frictionless",
+        {**SECTION, "natural_curvature": 0.0, "friction": False},
+    ),
+    Variant(
         "free fibres, contact at r0, balanced contact, mu = 10, k_t = 10 k (contacts held)",
         {**FIBRES, "contact_radius": "measured"},
         with_friction(10.0, 10.0),
