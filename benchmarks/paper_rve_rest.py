@@ -22,6 +22,7 @@ exponent shift, the balanced contact) split with its own a, k / affine to four d
 tables go into docs/validation.md ("What the shape of their response says", point 6).
 
     .venv/bin/python benchmarks/paper_rve_rest.py [--control-points 68] [--parabolic-only]
+        [--figure docs/figures/paper_rve_held_shape.png]
 
 About three minutes at 68 control points on the shared 2-core machine (2026-11-28).
 """
@@ -29,6 +30,10 @@ About three minutes at 68 control points on the shared 2-core machine (2026-11-2
 import argparse
 import time
 
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
 import numpy as np
 
 from rve_rod.contact import ContactOptions
@@ -111,6 +116,9 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--control-points", type=int, default=68)
     parser.add_argument("--parabolic-only", action="store_true", help="only the last table")
+    parser.add_argument(
+        "--figure", help="PNG of the yarn's share k / affine with the loop's shape held"
+    )
     args = parser.parse_args()
     if args.parabolic_only:
         parabolic(args.control_points)
@@ -121,6 +129,7 @@ def main():
     )
     print(header)
     held = [header]  # the same C split with the affine gradient: the loop's shape held
+    shares = {}  # model -> [k / affine with the shape held, per stitch value]
     for stitch in STITCHES:
         fabric = load_preset("cotton-20s2", stitch)
         w, c = fabric.knit.wale_width, fabric.knit.course_height
@@ -141,6 +150,9 @@ def main():
             f"{stretched[1]:.3f}) mm | | | | | |"
         )
         held.append(_row(stitch, "theirs", theirs, stretched, affine))
+        shares.setdefault("theirs", []).append(
+            taut_loop_split(theirs, stretched).stiffness / affine
+        )
         for name, yarn_settings in MODELS.items():
             started = time.perf_counter()
             settings = RveSettings(
@@ -151,10 +163,41 @@ def main():
             label = f"{name} ({time.perf_counter() - started:.0f} s)"
             print(_row(stitch, label, ours, gradient, affine), flush=True)
             held.append(_row(stitch, name, ours, stretched, affine))
+            shares.setdefault(name, []).append(taut_loop_split(ours, stretched).stiffness / affine)
     print("\nThe same split with the affine gradient (the loop's shape held):\n")
     print("\n".join(held))
+    if args.figure:
+        held_shape_figure(shares, args.figure)
     profiles()
     parabolic(args.control_points)
+
+
+def held_shape_figure(shares: dict[str, list[float]], path: str) -> None:
+    """k / affine with the loop's shape held against the stitch value, theirs and ours (log
+    scale; a share of 0, no coupling, is drawn at the axis's floor)."""
+    floor = 1e-4
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    for name, values in shares.items():
+        theirs = name == "theirs"
+        ax.plot(
+            STITCHES,
+            np.maximum(values, floor),
+            "k*-" if theirs else "o--",
+            markersize=11 if theirs else 5,
+            linewidth=2 if theirs else 1,
+            label="the paper group's RVE" if theirs else name,
+        )
+    ax.set_yscale("log")
+    ax.set_ylim(floor * 0.8, 1.0)
+    ax.set_xticks(STITCHES)
+    ax.set_xlabel("stitch value (mm)")
+    ax.set_ylabel("k / (EA / (L w c))  (0 drawn at 1e-4)")
+    ax.set_title("The yarn's share of the stiffness at rest, the loop's shape held", fontsize=10)
+    ax.legend(fontsize=7)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=150)
+    print(f"figure: {path}")
 
 
 def profiles():
