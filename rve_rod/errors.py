@@ -7,7 +7,9 @@ raises when it cannot go on; it carries everything that converged before it stop
 status 3). `cli_exit_status` is the one mapping of the three tools (`rve-rod`,
 `fabric-dolfinx`, `knitmech`), and `CommandLineParser` their argument parser, whose usage errors
 are InputErrors; `terminate_as_interrupt` makes SIGTERM unwind a tool like Ctrl-C (children
-stopped, temporary folders removed) and exit with 143.
+stopped, temporary folders removed) and exit with 143, and remembers each signal until it is
+handled, so that `raise_pending_interrupt` can raise one that Python lost (its exception
+raised in a callback whose exceptions are ignored, such as logging's lock release after a fork).
 """
 
 import argparse
@@ -34,6 +36,7 @@ __all__ = [
     "check_positive",
     "check_range",
     "cli_exit_status",
+    "raise_pending_interrupt",
     "terminate_as_interrupt",
 ]
 
@@ -74,13 +77,41 @@ class Terminated(KeyboardInterrupt):
     KeyboardInterrupt, so that everything that cleans up after Ctrl-C does so after it too."""
 
 
+_pending: list[type[KeyboardInterrupt]] = []
+"""The interruption that arrived and has not been handled yet (at most one kind)."""
+
+
 def _raise_terminated(signum, frame):
+    _pending[:] = [Terminated]
     raise Terminated()
 
 
+def _raise_interrupt(signum, frame):
+    _pending[:] = _pending or [KeyboardInterrupt]
+    raise KeyboardInterrupt
+
+
 def terminate_as_interrupt() -> None:
-    """Make SIGTERM raise `Terminated` in the main thread (call it from a tool's main)."""
+    """Make SIGTERM raise `Terminated` in the main thread, and remember SIGTERM and SIGINT until
+    `cli_exit_status` handles them (call it from a tool's main). SIGINT keeps its meaning
+    (KeyboardInterrupt) where Python's own handler has it; an ignored SIGINT (a background job)
+    stays ignored."""
     signal.signal(signal.SIGTERM, _raise_terminated)
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        signal.signal(signal.SIGINT, _raise_interrupt)
+
+
+def raise_pending_interrupt() -> None:
+    """Raise the KeyboardInterrupt (or `Terminated`) of a signal that arrived but was lost.
+
+    Python ignores an exception raised in some callbacks (it prints "Exception ignored in"): an
+    at-fork hook, a finalizer, a weakref callback. A Ctrl-C that lands in one, e.g. in logging's
+    lock release while a process pool forks a worker, would be lost and the run go on; a loop
+    that waits on long work calls this between its steps (`rve_rod.homogenize.generate`), so
+    the interruption takes effect there. Does nothing when no signal is pending.
+    """
+    if _pending:
+        raise _pending.pop()()
 
 
 def _format(value: float) -> str:
@@ -166,6 +197,8 @@ def cli_exit_status(
     than 0).
     """
     resume = "; run again to resume" if resumable else ""
+    if isinstance(error, KeyboardInterrupt):
+        _pending.clear()  # handled here
     if isinstance(error, BrokenPipeError):
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())

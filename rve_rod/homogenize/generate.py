@@ -19,7 +19,7 @@ from collections.abc import Sequence
 from typing import NamedTuple, TextIO
 
 from rve_rod.cache import ResultCache
-from rve_rod.errors import ConvergenceError, InputError
+from rve_rod.errors import ConvergenceError, InputError, raise_pending_interrupt
 from rve_rod.homogenize.acceptance import surface_problems
 from rve_rod.homogenize.executors import ExecutorChoice, isolated_process
 from rve_rod.homogenize.fit import (
@@ -273,6 +273,7 @@ def _submit(tasks, indices, pool: concurrent.futures.Executor, finished, failed)
     try:
         futures = {pool.submit(_compute, tasks[index]): index for index in indices}
         for future in concurrent.futures.as_completed(futures):
+            raise_pending_interrupt()  # a Ctrl-C that landed in a fork's hook (rve_rod.errors)
             index = futures[future]
             try:
                 arrays, seconds = future.result()

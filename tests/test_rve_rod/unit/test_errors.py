@@ -1,8 +1,15 @@
 """Input checks: accepted values pass through, refused ones name parameter, value and range."""
 
+import os
+import signal
+import sys
+import time
+import weakref
+
 import numpy as np
 import pytest
 
+from rve_rod import errors
 from rve_rod.errors import (
     ConvergenceError,
     InputError,
@@ -10,6 +17,8 @@ from rve_rod.errors import (
     check_positive,
     check_range,
     cli_exit_status,
+    raise_pending_interrupt,
+    terminate_as_interrupt,
 )
 
 
@@ -112,3 +121,65 @@ def test_every_command_line_gives_usage_errors_one_line_and_exit_2(
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"{program}: error: ")
     assert message in lines[0]
+
+
+@pytest.fixture
+def signal_handlers():
+    """Python's SIGINT handler for the test, the process's handlers and no pending signal after."""
+    previous = signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous[0])
+    signal.signal(signal.SIGTERM, previous[1])
+    errors._pending.clear()
+
+
+def _signal_inside_an_ignoring_callback(signum):
+    """Send `signum` to this process so that its handler runs inside a weakref callback, whose
+    exceptions Python prints and ignores (as it does those of an at-fork hook: logging's lock
+    release while a process pool forks a worker)."""
+
+    class Owner:
+        pass
+
+    def callback(_reference):
+        os.kill(os.getpid(), signum)
+        time.sleep(1.0)  # the handler runs here and raises inside the callback
+
+    owner = Owner()
+    reference = weakref.ref(owner, callback)
+    del owner  # runs the callback: its exception is printed, not raised
+    return reference
+
+
+@pytest.mark.parametrize(
+    ("signum", "expected"),
+    [(signal.SIGINT, KeyboardInterrupt), (signal.SIGTERM, errors.Terminated)],
+)
+def test_a_signal_lost_in_a_callback_is_raised_where_the_run_waits(
+    signal_handlers, monkeypatch, signum, expected
+):
+    lost = []
+    monkeypatch.setattr(sys, "unraisablehook", lambda unraisable: lost.append(unraisable.exc_type))
+    terminate_as_interrupt()
+    raise_pending_interrupt()  # nothing pending: nothing raised
+    _signal_inside_an_ignoring_callback(signum)  # the run went on: the signal was lost here
+    assert lost == [expected]
+    with pytest.raises(expected):
+        raise_pending_interrupt()
+    raise_pending_interrupt()  # raised once
+
+
+def test_an_interrupt_handled_at_the_top_is_not_raised_again(signal_handlers, capsys):
+    terminate_as_interrupt()
+    with pytest.raises(KeyboardInterrupt) as caught:
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(1.0)
+    assert cli_exit_status("rve-rod simulate", caught.value) == errors.EXIT_INTERRUPTED
+    raise_pending_interrupt()  # handled: nothing pending
+
+
+def test_an_ignored_ctrl_c_stays_ignored(signal_handlers):
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # a background job's
+    terminate_as_interrupt()
+    assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
