@@ -8,8 +8,10 @@ exit status 130, no cleanup of a stage's temporary folder, and a SIGINT to the m
 alone left the RVE executor's worker processes running, orphaned. Importing gmsh here puts the
 handler it replaced back (in the main thread, where handlers can be set), so Ctrl-C unwinds
 the run as it does in `rve-rod`; a long gmsh call is then interrupted when it returns (gmsh
-does not look at Python's signals). A gmsh that leaves SIGINT alone (no `oldsig`) is taken
-as it is.
+does not look at Python's signals). `gmsh.finalize()` would set the import's handler again,
+replacing the one a tool installed since (`rve_rod.errors.terminate_as_interrupt`, which
+remembers a Ctrl-C that Python lost): its `oldsig` is cleared, so finalize leaves the handler as
+it is. A gmsh that leaves SIGINT alone (no `oldsig`) is taken as it is.
 """
 
 import signal
@@ -28,3 +30,4 @@ if (
     and threading.current_thread() is threading.main_thread()
 ):
     signal.signal(signal.SIGINT, _replaced)
+    gmsh.oldsig = None  # finalize() then leaves whatever handler is set

@@ -426,13 +426,22 @@ class BSplineCurve:
 
     def arc_length_function(self, points_per_span: int = 12) -> tuple[np.ndarray, np.ndarray]:
         """Cumulative arc length at the breakpoints: (breakpoints (s+1,), length (s+1,))."""
+        params, half, weights = self.span_quadrature(points_per_span)
+        speed = np.linalg.norm(self(params, 1), axis=1).reshape(half.size, points_per_span)
+        per_span = half * (speed @ weights)
+        return self.breakpoints(), np.concatenate([[0.0], np.cumsum(per_span)])
+
+    def span_quadrature(
+        self, points_per_span: int = 12
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Gauss-Legendre points per knot span: (params (s p,), span after span; half of each
+        span's length in the parameter (s,); the rule's weights on [-1, 1] (p,)), so that
+        int f du = sum over spans of half * (f(params).reshape(s, p) @ weights)."""
         edges = self.breakpoints()
         nodes, weights = np.polynomial.legendre.leggauss(points_per_span)
         half = 0.5 * np.diff(edges)
         params = (edges[:-1, None] + half[:, None] * (nodes[None, :] + 1.0)).ravel()
-        speed = np.linalg.norm(self(params, 1), axis=1).reshape(half.size, points_per_span)
-        per_span = half * (speed @ weights)
-        return edges, np.concatenate([[0.0], np.cumsum(per_span)])
+        return params, half, weights
 
 
 def averaged_knots(params: np.ndarray, degree: int) -> np.ndarray:

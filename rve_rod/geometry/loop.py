@@ -345,16 +345,13 @@ def affine_length_gradient(
     pulls with S = T a / (w c) (the in-plane part of int T t t^T ds / (w c)): the stiffness
     k a a^T of `paper.comparison.taut_loop_split` with k = EA / (L w c) (docs/validation.md,
     "What the shape of their response says", point 6)."""
-    nodes, weights = np.polynomial.legendre.leggauss(points_per_span)
     gradient = np.zeros(2)
     for curve in curves:
-        edges = curve.breakpoints()
-        half = 0.5 * np.diff(edges)
-        params = (edges[:-1, None] + half[:, None] * (nodes[None, :] + 1.0)).ravel()
+        params, half, weights = curve.span_quadrature(points_per_span)
         tangent = curve(params, 1)
-        speed = np.linalg.norm(tangent, axis=1)
-        ds = np.repeat(half, points_per_span) * np.tile(weights, half.size) * speed
-        gradient += ((tangent[:, :2] / speed[:, None]) ** 2 * ds[:, None]).sum(axis=0)
+        speed = np.linalg.norm(tangent, axis=1, keepdims=True)
+        along = (tangent[:, :2] / speed) ** 2 * speed  # t_i^2 ds/du, (s p, 2)
+        gradient += half @ np.einsum("spi,p->si", along.reshape(half.size, -1, 2), weights)
     return gradient
 
 

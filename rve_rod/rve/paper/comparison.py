@@ -324,8 +324,10 @@ class TautLoopSplit(NamedTuple):
 
 def taut_loop_split(stiffness: np.ndarray, gradient: np.ndarray) -> TautLoopSplit:
     """Split a (2, 2) secant stiffness at rest C (N/mm; S = C E) into the part that runs through
-    the loop's length, k a a^T with a = `rve_rod.geometry.loop.loop_length_gradient` (2,) (mm)
-    and k = sqrt(C12 C21) / (a1 a2), and the diagonal rest (`TautLoopSplit`)."""
+    the loop's length, k a a^T with k = sqrt(C12 C21) / (a1 a2), and the diagonal rest
+    (`TautLoopSplit`); `gradient` a (2,) (mm) is how the loop's length grows with E11 and E22:
+    `rve_rod.geometry.loop.loop_length_gradient` (the loop re-shaping into the shortest one)
+    or `affine_length_gradient` (its shape held)."""
     c = np.asarray(stiffness, dtype=float)
     a = np.asarray(gradient, dtype=float)
     if c.shape != (2, 2) or a.shape != (2,) or not np.all(a > 0):

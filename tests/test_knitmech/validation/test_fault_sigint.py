@@ -37,6 +37,23 @@ def test_importing_a_tool_that_meshes_leaves_ctrl_c_to_python(module):
     assert found.stdout.strip() == "True"
 
 
+def test_gmsh_finalize_keeps_the_handler_a_tool_installed():
+    """`gmsh.finalize()` would set the handler of gmsh's import again (Python's), dropping the
+    one `terminate_as_interrupt` installed since, which remembers a lost Ctrl-C."""
+    code = (
+        "import signal; from fabric_dolfinx.gmsh_api import gmsh; "
+        "from rve_rod.errors import terminate_as_interrupt; terminate_as_interrupt(); "
+        "installed = signal.getsignal(signal.SIGINT); "
+        "assert installed is not signal.default_int_handler; "
+        "gmsh.initialize(); gmsh.finalize(); "
+        "print(signal.getsignal(signal.SIGINT) is installed)"
+    )
+    found = subprocess.run(
+        foreground([sys.executable, "-c", code]), capture_output=True, text=True, check=True
+    )
+    assert found.stdout.strip() == "True"
+
+
 @pytest.mark.slow
 def test_ctrl_c_in_the_surface_stage_unwinds_the_run_and_its_workers(tmp_path):
     results, cache = tmp_path / "results", tmp_path / "cache"
