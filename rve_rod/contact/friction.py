@@ -6,6 +6,9 @@ closest to and the offset o from that point at which it sticks, o = v - g_e (v =
 g_e the elastic slip left by the return mapping). During the next step the slip of the slave
 point is the tangential part of w = x_s - x_a - o, where x_a is the anchor's current position:
 the motion of the slave point relative to the master's material point since the last commit.
+The offset turns with the cell as a whole: it is kept in the frame of the macro F's rotation
+(`MacroTurn`, the polar rotation R of the in-plane F) and used as R o, so that a rigid turn of
+the cell and its images registers no slip (docs/contact.md, "Turning pairs").
 A current contact finds its anchor by slave point, strand (the endless yarn through the
 lattice images) and nearest unwrapped arc coordinate along it.
 """
@@ -16,6 +19,7 @@ import numpy as np
 
 __all__ = [
     "FrictionHistory",
+    "MacroTurn",
     "SortedAnchors",
     "match_anchors",
     "sort_anchors",
@@ -33,7 +37,8 @@ class FrictionHistory(NamedTuple):
         arc: (h,) unwrapped reference arc coordinate of the anchor along its strand (mm).
         span: (h,) master span of the anchor; tau: (h,) its local parameter.
         image: (h, 2) lattice image of the anchor's master.
-        offset: (3, h) stick offset o (mm).
+        offset: (3, h) stick offset o (mm), in the frame of the macro turn (`MacroTurn`):
+            R^T o of the committed state's R.
     """
 
     slave: np.ndarray
@@ -54,6 +59,35 @@ class FrictionHistory(NamedTuple):
 
     def __len__(self) -> int:
         return self.slave.size
+
+
+class MacroTurn(NamedTuple):
+    """The rotation of the in-plane macro F, F = R U (polar), about the fabric's normal z.
+
+    For a 2 x 2 F its angle is theta = atan2(F21 - F12, F11 + F22).
+
+    Attributes:
+        rotation: (3, 3) R.
+        rate: (3, 3) dR / dtheta.
+        gradient: (4,) dtheta / d(F11, F12, F21, F22).
+    """
+
+    rotation: np.ndarray
+    rate: np.ndarray
+    gradient: np.ndarray
+
+    @classmethod
+    def of(cls, deformation: np.ndarray) -> "MacroTurn":
+        """The turn of F (3, 3) (its in-plane block)."""
+        trace = deformation[0, 0] + deformation[1, 1]
+        skew = deformation[1, 0] - deformation[0, 1]
+        theta = np.arctan2(skew, trace)
+        c, s = np.cos(theta), np.sin(theta)
+        rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        rate = np.array([[-s, -c, 0.0], [c, -s, 0.0], [0.0, 0.0, 0.0]])
+        size = trace * trace + skew * skew
+        gradient = np.array([-skew, -trace, trace, -skew]) / size
+        return cls(rotation, rate, gradient)
 
 
 class SortedAnchors(NamedTuple):

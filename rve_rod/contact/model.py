@@ -38,7 +38,7 @@ from rve_rod.contact.forces import (
     contact_loads,
     kinematics,
 )
-from rve_rod.contact.friction import FrictionHistory, match_anchors, sort_anchors
+from rve_rod.contact.friction import FrictionHistory, MacroTurn, match_anchors, sort_anchors
 from rve_rod.contact.law import CompressibleYarnLaw, CoulombFriction
 from rve_rod.contact.layout import (
     ContactLayout,
@@ -323,12 +323,15 @@ class _Anchors(NamedTuple):
     span: np.ndarray  # (k,)
     tau: np.ndarray  # (k,)
     shift: np.ndarray  # (k, 3) reference lattice shift of the anchor's image
-    slip_vector: np.ndarray  # (3, k) w = x_s - x_a - o (mm), zero without anchor
+    slip_vector: np.ndarray  # (3, k) w = x_s - x_a - R o (mm), zero without anchor
+    turning: np.ndarray  # (3, k, 4) d(R o) / d(F11, F12, F21, F22) (mm)
 
     @classmethod
     def none(cls, k: int) -> "_Anchors":
         """k contacts without anchors."""
-        return cls(np.full(k, -1), np.zeros(k), np.zeros((k, 3)), np.zeros((3, k)))
+        return cls(
+            np.full(k, -1), np.zeros(k), np.zeros((k, 3)), np.zeros((3, k)), np.zeros((3, k, 4))
+        )
 
 
 class _SearchCounts(NamedTuple):
@@ -489,7 +492,7 @@ class ContactModel:
         )
         trial_history = None
         if self.friction is not None:
-            trial_history = self._trial_history(detected, active_rows, loads)
+            trial_history = self._trial_history(detected, active_rows, loads, deformation)
         if self.options.lumping == "point":
             loads = _as_point_forces(loads, radius / layout.collocation_weights[active.slave])
         weight = regions.weight[active_rows]
@@ -577,9 +580,12 @@ class ContactModel:
             self._span_points(points, anchors.span[rows], anchors.tau[rows])
             + (anchors.shift[rows] @ deformation.T).T
         )
+        turn = MacroTurn.of(deformation)
+        offset = history.offset[:, anchor]
         anchors.slip_vector[:, rows] = (
-            slave_points[:, active.slave[rows]] - anchor_points - history.offset[:, anchor]
+            slave_points[:, active.slave[rows]] - anchor_points - turn.rotation @ offset
         )
+        anchors.turning[:, rows] = (turn.rate @ offset)[:, :, None] * turn.gradient
         return anchors
 
     # -- search -------------------------------------------------------------------------------
@@ -693,10 +699,14 @@ class ContactModel:
         _kernels.point_positions(points, self.layout.span_first[spans], basis, out)
         return out
 
-    def _trial_history(self, detected: _Selection, active_rows, loads: ContactLoads):
-        """Anchors of all detected pairs: offset v - g_e (g_e = 0 where there is no friction)."""
+    def _trial_history(
+        self, detected: _Selection, active_rows, loads: ContactLoads, deformation: np.ndarray
+    ):
+        """Anchors of all detected pairs: offset v - g_e (g_e = 0 where there is no friction),
+        turned back by the macro turn of F (`MacroTurn`)."""
         offset = detected.state.gap_vector.copy()
         offset[:, active_rows] -= loads.elastic_slip
+        offset = MacroTurn.of(deformation).rotation.T @ offset
         return FrictionHistory(
             slave=detected.slave,
             strand=detected.strand,
@@ -821,15 +831,17 @@ class ContactModel:
         basis[2, :k] = layout.basis(span, tau, 1)
         basis[3, anchored] = layout.basis(anchors.span[anchored], anchors.tau[anchored])
         chain = _kernels.SpanChain(first, np.ascontiguousarray(basis.transpose(0, 2, 1)))
-        # d load / d F_ab = (d load / d x_m)[:, a] L_b + (d load / d x_a)[:, a] L_a,b.
-        deformation = _outer(loads.blocks[MASTER][:, :2], shift[:, :2]) + _outer(
-            loads.blocks[ANCHOR][:, :2], anchors.shift[:, :2]
-        )
+        # d load / d F_ab = (d load / d x_m)[:, a] L_b + (d load / d x_a)[:, a] L_a,b
+        #   + (d load / d x_a) dR/dtheta o dtheta / dF_ab (the offset turns with F: w = x_s -
+        #   x_a - R o, so d load / d(R o) = d load / d x_a).
+        deformation = (
+            _outer(loads.blocks[MASTER][:, :2], shift[:, :2])
+            + _outer(loads.blocks[ANCHOR][:, :2], anchors.shift[:, :2])
+        ).reshape(3, k, 4) + np.einsum("ijt,jtm->itm", loads.blocks[ANCHOR], anchors.turning)
         if t:
             extra = np.einsum(
                 "iat,tb->tiab", -outer[:, :2], self._shifts(terms.image)[:, :2]
             ).reshape(t, 3, 4)
-            deformation = deformation.reshape(3, k, 4)
             np.add.at(deformation, (slice(None), terms.contact), extra.transpose(1, 0, 2))
         return ContactDerivatives(
             blocks=blocks,

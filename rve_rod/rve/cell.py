@@ -38,8 +38,10 @@ Rest state. The loop is built with the adjusted radius r, so its yarns just touc
 construction puts them 2r apart. When the contact law acts at a larger radius (the yarn's own
 r0, `YarnSettings.contact_radius = "measured"`), those contacts are squeezed at rest:
 `LoopCell.rest_state` grows the squeeze from touching to its full size at F = I (the fabric
-at its measured w and c), and the stress of that state, P0, is the cell's `rest_stress`: the
-stresses the cell reports are changes from it, and the free components balance to it. A yarn
+at its measured w and c), and the stress of that state, P0, is the cell's `rest_stress`. The
+cell reports P - F P0, so that S = F^-1 P - S0 is the change from the rest state's second
+Piola stress S0 = P0 (objective: a rigid turn of the pre-loaded cell reports no stress, where
+P - P0 would report sym(P0 - R^T P0)), and the free components balance to F P0. A yarn
 with a prestrain eps0 (`YarnSettings.prestrain`: its natural length 1 / (1 + eps0) times the
 loop's, or the measured loop length's with `YarnSettings.natural_length = "measured"`:
 `LoopCell.prestrain`) makes a taut rest state the same way: the prestrain is grown from 0 at
@@ -205,8 +207,8 @@ class CellState(NamedTuple):
 
     Attributes:
         deformation: (2, 2) macro F.
-        stress: the macro stress and its parts; first_piola is P - P0 (the change from the
-            rest state), the parts are P's own (they sum to first_piola + rest_stress).
+        stress: the macro stress and its parts; first_piola is P - F P0 (the change from the
+            rest state), the parts are P's own (they sum to first_piola + F rest_stress).
         cut_force: (3,) internal force at the cut n(END) (N), summed over the patches.
         support_reaction: (4,) support force (3, N) and moment about the period axis (N mm).
         regularization: (2, 2) kappa H on the free components and the ties' share of the
@@ -245,7 +247,7 @@ class LoopCell:
         ties: the YarnTies of the second and further patches (none for one patch).
         rest_stress: (2, 2) P0 of the rest state (N/mm), zeros unless the contacts are
             squeezed or the yarn prestrained at rest (`rest_state`); `evaluate_state`
-            reports P - P0.
+            reports P - F P0.
         prestrain: the rods' prestrain (-): the yarn's eps0, or with natural_length
             "measured" (1 + eps0) L / l - 1 (L the template's yarn length per loop, l the
             knit's measured loop length).
@@ -472,14 +474,15 @@ class LoopCell:
         `moments` its bending moments."""
         force = self.cut_force(state)
         stress = macro_stress(self.coupling, force, state, load_factor)
-        stress = stress._replace(first_piola=stress.first_piola - self.rest_stress)
+        deformation = self.macro.matrix(state, load_factor)[:2, :2]
+        stress = stress._replace(first_piola=stress.first_piola - deformation @ self.rest_stress)
         regularization = np.zeros((2, 2))
         for (a, b), column in zip(self.case.free, self.macro.columns, strict=True):
             regularization[a, b] = self._regularization * state[column]
         for tie in self.ties:
             regularization += tie.stress(self.model, state, load_factor, self.coupling.area)
         return CellState(
-            deformation=self.macro.matrix(state, load_factor)[:2, :2],
+            deformation=deformation,
             stress=stress,
             cut_force=force,
             support_reaction=np.array(state[self._support_columns]),

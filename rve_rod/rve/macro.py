@@ -128,9 +128,11 @@ def macro_stress(
 
 @dataclass(frozen=True, eq=False)
 class MacroBalance(Condition):
-    """The equations of the free macro components: P_ab - P0_ab + kappa H_ab = 0 for each,
-    P0 the stress of the cell's rest state (zero unless its contacts are squeezed at rest:
-    `rve_rod.rve.cell.LoopCell.rest_state`), so that a free direction carries no load.
+    """The equations of the free macro components: P_ab - (F P0)_ab + kappa H_ab = 0 for
+    each, P0 the stress of the cell's rest state (zero unless it is pre-loaded at rest:
+    `rve_rod.rve.cell.LoopCell.rest_state`), so that a free direction carries no load beyond
+    the rest state's second Piola stress S0 = P0 (turned and stretched with the cell, which
+    keeps the balance objective: a rigid turn R of the cell holds R P0).
 
     kappa is a tiny regularizing stiffness (N/mm per unit strain): without any contact with
     the images P_22 does not depend on F22 at all (the courses slide apart or together
@@ -187,6 +189,7 @@ class MacroBalance(Condition):
         n_positions = self.position_columns.size
         position_index, components, columns = self._indices
         period = coupling.lattice[0, 0]
+        F = self.macro.matrix(state, load_factor)[:2, :2]
         blocks = []
         for row, ((a, b), unknown) in enumerate(
             zip(self.macro.case.free, self.macro.columns, strict=True)
@@ -204,8 +207,12 @@ class MacroBalance(Condition):
                 for end in ends
             ]
             jacobian = np.zeros(columns.size)
-            value = self.regularization * state[unknown] - self.rest_stress[a, b]
+            value = self.regularization * state[unknown] - (F @ self.rest_stress)[a, b]
             jacobian[n_positions + row] = self.regularization
+            # d (F P0)_ab / d F_ac = P0_cb for each free component (a, c)
+            for column, (a_free, c) in enumerate(self.macro.case.free):
+                if a_free == a:
+                    jacobian[n_positions + column] -= self.rest_stress[c, b]
             if k:
                 weights, _ = image_weights(coupling, result, b)
                 value += weights @ contacts.load[a]

@@ -79,12 +79,14 @@ class RveStep:
         strain: the case's control value at this state (eps, ray t or shear g).
         deformation: (2, 2) macro F.
         green_lagrange: (3,) E = (E11, E22, E12).
-        first_piola: (2, 2) P (N/mm), measured from the rest state (the change from the
-            result's `rest_stress`; P itself when nothing is squeezed at rest).
+        first_piola: (2, 2) P (N/mm), measured from the rest state: P - F P0 with P0 the
+            result's `rest_stress`, so that S is the change from the rest's S0 = P0 (P itself
+            when nothing is pre-loaded at rest).
         second_piola: (3,) S = F^-1 P, symmetrized (N/mm).
         stress_parts: (3, 2, 2) P split by where it is carried: the yarn force through the
             periodic cut, the normal loads and the friction loads of the contacts with the
-            lattice images (N/mm); they sum to `first_piola` plus the result's `rest_stress`
+            lattice images (N/mm); they sum to `first_piola` plus F times the result's
+            `rest_stress`
             (docs/validation.md, "Why the knit contracts too little").
         reaction: (2, 2) force on the cell faces (N): column b is P[:, b] times the length of
             the face normal to axis b (c for b = 1, w for b = 2).

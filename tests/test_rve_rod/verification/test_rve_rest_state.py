@@ -13,7 +13,7 @@ from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.geometry.loop import loop_geometry
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
-from rve_rod.rve.load_cases import BiaxialRay, load_case
+from rve_rod.rve.load_cases import BiaxialRay, LoadCase, load_case
 from rve_rod.rve.simulation import RveSettings, build_cell, loop_curves, simulate
 from rve_rod.rve.yarn import YarnSettings, yarn_model
 from rve_rod.units import n_per_mm_to_gf_per_cm
@@ -60,10 +60,12 @@ def test_the_rest_state_is_pre_loaded_and_the_stresses_start_from_it(course):
     assert course.complete and course.steps[-1].force_gf_per_cm > 1.0
 
 
-def test_the_stress_parts_sum_to_the_rest_stress_plus_the_reported_stress(course):
+def test_the_stress_parts_sum_to_the_turned_rest_stress_plus_the_reported_stress(course):
     for step in course.steps:
         np.testing.assert_allclose(
-            step.stress_parts.sum(axis=0), step.first_piola + course.rest_stress, atol=1e-12
+            step.stress_parts.sum(axis=0),
+            step.first_piola + step.deformation @ course.rest_stress,
+            atol=1e-12,
         )
 
 
@@ -154,3 +156,73 @@ def test_a_straight_yarn_bent_into_its_loop_holds_moments_of_its_curvature():
     scale = np.linalg.norm(rigidity * bend, axis=1)
     assert np.sum(error * weights) < 0.05 * np.sum(scale * weights)
     assert n_per_mm_to_gf_per_cm(np.abs(cell.rest_stress)).max() > 0.5
+
+
+@dataclasses.dataclass(frozen=True)
+class _InPlaneTurn(LoadCase):
+    """F(t) = R(t a), a rigid turn of the cell about the fabric's normal (a test-only case)."""
+
+    angle: float = 0.3
+
+    def final_deformation(self):
+        return self.prescribed(1.0)
+
+    def prescribed(self, load_factor):
+        c, s = np.cos(load_factor * self.angle), np.sin(load_factor * self.angle)
+        return np.array([[c, -s], [s, c]])
+
+    def load_direction(self):
+        return np.array([[0.0, -1.0], [1.0, 0.0]]) / np.sqrt(2.0)
+
+    def control(self):
+        return self.angle
+
+
+@pytest.mark.parametrize("friction", [False, True])
+def test_a_rigid_turn_of_the_pre_loaded_cell_reports_no_stress(friction):
+    """Objectivity: the squeezed rest turned rigidly in its plane by 0.3 rad carries its rest
+    stress turned with it, P = R P0, so the reported S = S_total - S0 vanishes. A rest stress
+    subtracted from P instead (P - P0) would report S = sym(P0 - R^T P0), S12 about -1.9 gf/cm
+    for this cell's P0 of (8.8, 21) gf/cm; slip offsets that did not turn with the cell would
+    make its pressed contacts slip and add up to 4.4 gf/cm (docs/contact.md, "Turning
+    pairs")."""
+    fabric = load_preset("cotton-20s2", 5.5)
+    yarn = dataclasses.replace(SQUEEZED.yarn, friction=friction)
+    run = simulate(fabric, _InPlaneTurn(steps=4), dataclasses.replace(SQUEEZED, yarn=yarn))
+    assert run.complete
+    rest = n_per_mm_to_gf_per_cm(run.rest_stress)
+    assert min(rest[0, 0], rest[1, 1]) > 5.0
+    for step in run.steps:
+        turned = step.deformation @ run.rest_stress
+        np.testing.assert_allclose(
+            step.stress_parts.sum(axis=0), step.first_piola + turned, atol=1e-12
+        )
+        assert np.abs(n_per_mm_to_gf_per_cm(step.second_piola)).max() < 1e-3 * rest.max()
+
+
+def test_the_free_directions_balance_jacobian_matches_central_differences():
+    """The column of the free F22 of a course-wise run from the squeezed rest (frictionless),
+    off the solution: every row's derivative, the macro equation P22 - (F P0)_22 = 0 with its
+    P0_22 term (21 gf/cm) among them, equals central differences to 1e-6 of the column's
+    largest entry (without the term the macro row is off by P0_22, 1e-2 of it)."""
+    fabric = load_preset("cotton-20s2", 5.5)
+    frictionless = dataclasses.replace(
+        SQUEEZED, yarn=dataclasses.replace(SQUEEZED.yarn, friction=False)
+    )
+    case = load_case("uniaxial-course", 0.1, 3)
+    cell = build_cell(loop_curves(fabric), fabric, case, frictionless)
+    state = cell.rest_state(frictionless.newton, frictionless.stepping)
+    column = cell.macro.columns[0]
+    state[column] = -0.02  # off the solution: the lateral strain guessed
+    problem = cell.problem()
+    _, jacobian = problem.evaluate(state, 0.5)
+    step = 1e-7
+    plus, minus = state.copy(), state.copy()
+    plus[column] += step
+    minus[column] -= step
+    differences = (problem.residual(plus, 0.5) - problem.residual(minus, 0.5)) / (2 * step)
+    assert n_per_mm_to_gf_per_cm(abs(cell.rest_stress[1, 1])) > 10.0
+    assert abs(cell.rest_stress[1, 1]) > 1e-2 * np.abs(differences).max()
+    np.testing.assert_allclose(
+        jacobian.toarray()[:, column], differences, atol=1e-6 * np.abs(differences).max()
+    )
