@@ -20,7 +20,8 @@ the law as a force at each collocation point (`ContactOptions.lumping`).
         [--contact-stiffness-factor 0.01] [--contact-lumping line] [--control-points 28]
         [--figure PATH]
 
-About 5 s per row of the first table, 10-30 s per row of the second, on a quiet core.
+About 5 s per row of the first table, 10-30 s per row of the second, on a quiet core; a
+prestrain whose rest state is not found gets a row saying so.
 """
 
 import argparse
@@ -31,6 +32,7 @@ from matplotlib.figure import Figure
 
 from rve_rod.contact.law import DEFAULT_STIFFNESS_FACTOR
 from rve_rod.contact.model import LUMPINGS, ContactOptions
+from rve_rod.errors import ConvergenceError
 from rve_rod.geometry.bspline import BSplineCurve
 from rve_rod.presets import load_preset
 from rve_rod.rve.cell import CellSettings
@@ -189,7 +191,11 @@ def main():
                 "contact_radius": args.contact_radius,
                 "contact_stiffness_factor": args.contact_stiffness_factor,
             }
-            row = measure(stitch, prestrain, yarn, args.control_points, args.contact_lumping)
+            try:
+                row = measure(stitch, prestrain, yarn, args.control_points, args.contact_lumping)
+            except ConvergenceError as error:  # e.g. no rest state: say so, go on
+                print(f"| {stitch:g} | {100 * prestrain:g} % | not found: {error} |", flush=True)
+                continue
             mean, low, high = (1e3 * f for f in row["force"])
             print(
                 f"| {stitch:g} | {100 * prestrain:g} % | {1e3 * row['held']:.0f} | "
@@ -206,9 +212,13 @@ def main():
     rows = {}
     for stitch in (float(s) for s in args.stitches.split(",")):
         for prestrain in (float(e) for e in args.prestrains.split(",")):
-            row = rows[(stitch, prestrain)] = along_equibiaxial(
-                stitch, prestrain, yarn, args.control_points, args.contact_lumping
-            )
+            try:
+                row = rows[(stitch, prestrain)] = along_equibiaxial(
+                    stitch, prestrain, yarn, args.control_points, args.contact_lumping
+                )
+            except ConvergenceError as error:
+                print(f"| {stitch:g} | {100 * prestrain:g} % | not found: {error} |", flush=True)
+                continue
             print(
                 f"| {stitch:g} | {100 * prestrain:g} % | {row['strain']:.3f} | "
                 f"{row['ours'][0]:.1f}, {row['ours'][1]:.1f} | "
