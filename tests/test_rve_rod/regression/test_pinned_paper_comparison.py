@@ -10,6 +10,7 @@ from rve_rod.rve.cell import CellSettings
 from rve_rod.rve.paper.comparison import compare_run
 from rve_rod.rve.paper.data import biaxial_rays, shear_run
 from rve_rod.rve.simulation import RveSettings
+from rve_rod.rve.yarn import YarnSettings
 from rve_rod.units import n_per_mm_to_gf_per_cm
 
 
@@ -37,3 +38,20 @@ def test_our_stresses_along_their_runs_are_pinned():
         "shear S12 state 12": ours["shear"][11, 0, 1],
     }
     assert_pinned("PAPER_COMPARISON_FAST", measured)
+
+
+def test_the_squeezed_rests_shear_is_pinned():
+    """Their picture-frame shear at 5.5 from the squeezed rest (the law at the yarn's own
+    radius, `YarnSettings.contact_radius = "measured"`), with and without friction, at their
+    6th state (19.8 degrees; docs/validation.md, "A pre-loaded rest, measured objectively"):
+    the number the objective rest stress and the turning friction offsets moved most."""
+    fabric = load_preset("cotton-20s2", 5.5)
+    measured = {}
+    for label, friction in (("friction", True), ("frictionless", False)):
+        settings = RveSettings(
+            cell=CellSettings(control_points=28),
+            yarn=YarnSettings(contact_radius="measured", friction=friction),
+        )
+        shear = compare_run(fabric, shear_run(5.5), settings, states=12).second_piola
+        measured[f"squeezed, {label}: shear S12 state 6"] = n_per_mm_to_gf_per_cm(shear[5, 0, 1])
+    assert_pinned("PAPER_PRELOADED_SHEAR_FAST", measured)
