@@ -8,7 +8,7 @@ point is the tangential part of w = x_s - x_a - o, where x_a is the anchor's cur
 the motion of the slave point relative to the master's material point since the last commit.
 The offset turns with the cell as a whole: it is kept in the frame of the macro F's rotation
 (`MacroTurn`, the polar rotation R of the in-plane F) and used as R o, so that a rigid turn of
-the cell and its images registers no slip (docs/contact.md, "Turning pairs").
+the cell and its images registers no slip (docs/contact.md, "The cell's turn").
 A current contact finds its anchor by slave point, strand (the endless yarn through the
 lattice images) and nearest unwrapped arc coordinate along it.
 """
