@@ -486,13 +486,14 @@ class ContactModel:
         k = active_rows.size
         anchors = _Anchors.none(k)
         if self.friction is not None:
-            anchors = self._anchors(points, slave_points, deformation, active)
+            turn = MacroTurn.of(deformation)
+            anchors = self._anchors(points, slave_points, deformation, turn, active)
         loads = contact_loads(
             active.state, self.law, self.friction, anchors.slip_vector, anchors.span >= 0
         )
         trial_history = None
         if self.friction is not None:
-            trial_history = self._trial_history(detected, active_rows, loads, deformation)
+            trial_history = self._trial_history(detected, active_rows, loads, turn)
         if self.options.lumping == "point":
             loads = _as_point_forces(loads, radius / layout.collocation_weights[active.slave])
         weight = regions.weight[active_rows]
@@ -558,7 +559,9 @@ class ContactModel:
             line_derivatives=line_derivatives,
         )
 
-    def _anchors(self, points, slave_points, deformation, active: _Selection) -> _Anchors:
+    def _anchors(
+        self, points, slave_points, deformation, turn: MacroTurn, active: _Selection
+    ) -> _Anchors:
         """The committed anchors of the active contacts and their slip vectors."""
         history = self._history
         if self._sorted_anchors is None or self._sorted_anchors[0] is not history:
@@ -580,7 +583,6 @@ class ContactModel:
             self._span_points(points, anchors.span[rows], anchors.tau[rows])
             + (anchors.shift[rows] @ deformation.T).T
         )
-        turn = MacroTurn.of(deformation)
         offset = history.offset[:, anchor]
         anchors.slip_vector[:, rows] = (
             slave_points[:, active.slave[rows]] - anchor_points - turn.rotation @ offset
@@ -700,13 +702,13 @@ class ContactModel:
         return out
 
     def _trial_history(
-        self, detected: _Selection, active_rows, loads: ContactLoads, deformation: np.ndarray
+        self, detected: _Selection, active_rows, loads: ContactLoads, turn: MacroTurn
     ):
         """Anchors of all detected pairs: offset v - g_e (g_e = 0 where there is no friction),
         turned back by the macro turn of F (`MacroTurn`)."""
         offset = detected.state.gap_vector.copy()
         offset[:, active_rows] -= loads.elastic_slip
-        offset = MacroTurn.of(deformation).rotation.T @ offset
+        offset = turn.rotation.T @ offset
         return FrictionHistory(
             slave=detected.slave,
             strand=detected.strand,
