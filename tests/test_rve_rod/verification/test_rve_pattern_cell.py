@@ -150,8 +150,9 @@ def test_rib_and_seed_are_orthotropic(pattern, name):
     """Normal strains cause (almost) no shear stress: rib and seed are mirror symmetric about
     a wale. The discrete cells are not exactly (the cut sits at one leg): at 6 % their shear
     stress is 0.5-2.8 % of the loaded one at 36 control points per quarter, 0.2-0.8 % at 68
-    (the single-jersey cell's is 4-8 % at either: docs/patterns.md, "Orthotropy"). Crossing
-    sinkers need the balanced level's resolution: at 20 the cells lose the symmetry."""
+    (the single-jersey cell's is 4-8 % at either: the two-pass contact's imbalance,
+    docs/patterns.md, "Verification"). Crossing sinkers need the balanced level's resolution:
+    at 20 the cells lose the symmetry."""
     fabric = with_pattern(load_preset("cotton-20s2", 5.5), pattern)
     result = simulate(fabric, load_case(name, 0.06, 4), settings(36, friction=True))
     P = first_piola(result)[-1]
