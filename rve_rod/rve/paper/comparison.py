@@ -45,6 +45,7 @@ from rve_rod.stress_measures import green_lagrange
 __all__ = [
     "AXIS_RAYS",
     "TARGET",
+    "TENSION_RAYS",
     "ContactPoints",
     "LengthBudget",
     "LoopExtent",
@@ -63,12 +64,17 @@ __all__ = [
     "run_case",
     "run_or_history",
     "secant_at_rest",
+    "shear_share",
     "taut_loop_split",
     "uniaxial_comparison",
 ]
 
 AXIS_RAYS = (6.4, 83.6)
 """The group's rays nearest the course and wale axes (degrees in the strain plane)."""
+
+TENSION_RAYS = (6.4, 45.0, 83.6)
+"""The group's rays that stretch both ways (degrees): near the course axis, equibiaxial, near
+the wale axis."""
 
 TARGET = 0.2
 """The target (issue 27): every converged state within 20 % of the run's largest stress."""
@@ -275,10 +281,11 @@ def _symmetric(tensors: np.ndarray) -> np.ndarray:
     return 0.5 * (tensors + np.swapaxes(tensors, -1, -2))
 
 
-def axis_rays(stitch: float) -> list[GroupRun]:
-    """Their two rays at `stitch` nearest the course and the wale axis (`AXIS_RAYS`)."""
+def axis_rays(stitch: float, angles: tuple[float, ...] = AXIS_RAYS) -> list[GroupRun]:
+    """Their rays at `stitch` nearest `angles` (degrees; by default the two nearest the course
+    and the wale axis)."""
     rays = biaxial_rays(stitch)
-    return [min(rays, key=lambda ray, a=a: abs(ray.angle_deg - a)) for a in AXIS_RAYS]
+    return [min(rays, key=lambda ray, a=a: abs(ray.angle_deg - a)) for a in angles]
 
 
 def secant_at_rest(rays: list[GroupRun], stresses: np.ndarray | None = None) -> np.ndarray:
@@ -289,6 +296,16 @@ def secant_at_rest(rays: list[GroupRun], stresses: np.ndarray | None = None) -> 
     if stresses is None:
         stresses = [np.diagonal(ray.second_piola[0]) for ray in rays]
     return np.linalg.solve(strains, np.asarray(stresses)).T
+
+
+def shear_share(stresses: np.ndarray) -> float:
+    """How far a run under normal strains is from orthotropic: the largest |S12|, |S21| over
+    the largest |S11|, |S22| of its states, stresses (k, 2, 2) (NaN states skipped; 0 for an
+    orthotropic cell whose axes are the strain's, as a knit mirror symmetric about its wale)."""
+    stresses = np.asarray(stresses)
+    stresses = stresses[np.isfinite(stresses).all(axis=(1, 2))]
+    shear = np.abs(stresses[:, [0, 1], [1, 0]]).max()
+    return float(shear / np.abs(stresses[:, [0, 1], [0, 1]]).max())
 
 
 def first_increment_ratio(deformation: np.ndarray, stresses: np.ndarray) -> float:
