@@ -22,11 +22,15 @@ stick). The table goes into docs/validation.md ("The paper group's RVE");
 `benchmarks/paper_rve_trade.py` draws it.
 
     .venv/bin/python benchmarks/paper_rve_sensitivity.py [--control-points 28]
-        [--stitches 4.5,5.5,6.5] [--only NAME ...] [--lateral | --directions]
+        [--stitches 4.5,5.5,6.5] [--only NAME ...] [--lateral | --directions | --shear-normal]
 
 With --directions, which way the contacts push at the first state of their two rays nearest
 the axes (`paper.comparison.contact_directions`) and the coupling at rest C21 / C11 and C12 /
 C22 (`secant_at_rest`), ours and theirs, for the rows of DIRECTION_ROWS.
+
+With --shear-normal, for the rows of LATERAL_ROWS, the normal stresses S11, S22 beside S12 of
+their picture-frame shear (F = [[1, sin a], [0, cos a]], E11 = E22 = 0) at 20 and 40 degrees,
+ours / theirs (gf/cm): what a cell held at its lengths pushes or pulls as it is sheared.
 
 With --lateral, the lateral pull instead, for the rows of LATERAL_ROWS (docs/validation.md,
 "The diagnosis in brief"): along their two rays nearest the axes to their last converged
@@ -547,6 +551,25 @@ def lateral(variant: Variant, stitch: float, control_points: int) -> str:
     return " | ".join(cells)
 
 
+SHEAR_STATES = (5, 11)
+"""Their picture-frame shear states of the --shear-normal table (20 and 40 degrees)."""
+
+
+def shear_normal(variant: Variant, stitch: float, control_points: int) -> str:
+    """Table cells of the normal stresses of their picture-frame shear (E11 = E22 = 0): at 20
+    and 40 degrees S11, S22, S12, ours / theirs (gf/cm)."""
+    fabric, settings = setup(variant, stitch, control_points)
+    run = shear_run(stitch)
+    ours = compare_run(fabric, run, settings, states=12, runner=runner(variant)).second_piola
+    cells = []
+    for state in SHEAR_STATES:
+        pairs = units.n_per_mm_to_gf_per_cm(
+            np.stack([ours[state], run.second_piola[state]])[:, [0, 1, 0], [0, 1, 1]]
+        )
+        cells.append(", ".join(f"{a:.1f} / {b:.1f}" for a, b in pairs.T))
+    return " | ".join(cells)
+
+
 DIRECTION_ROWS = (
     "free fibres (the default)",
     "free fibres, parabolic loop",
@@ -614,6 +637,9 @@ def main():
     parser.add_argument("--only", nargs="*", help="rows whose name contains one of these")
     parser.add_argument("--lateral", action="store_true", help="the lateral-pull table")
     parser.add_argument("--directions", action="store_true", help="the contact-direction table")
+    parser.add_argument(
+        "--shear-normal", action="store_true", help="the normal stresses of their shear"
+    )
     args = parser.parse_args()
     stitches = [float(s) for s in args.stitches.split(",")]
     if args.directions:
@@ -622,6 +648,17 @@ def main():
             "ray: the same | coupling at rest C21 / C11, C12 / C22, ours (theirs) |",
             DIRECTION_ROWS,
             directions,
+            stitches,
+            args.control_points,
+            args.only,
+        )
+        return
+    if args.shear_normal:
+        row_table(
+            "| variant | stitch | 20 degrees: S11, S22, S12, ours / theirs | 40 degrees: the "
+            "same |",
+            LATERAL_ROWS,
+            shear_normal,
             stitches,
             args.control_points,
             args.only,

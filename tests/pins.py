@@ -254,7 +254,8 @@ BALL_BURST = {
 # bending; S in gf/cm at the given state of their run (t = k/20 on a ray, 3.3 degrees per state
 # in shear). Measured on main after the merges of issues 29 and 32 (version 0.3.0); the shear's
 # state 12 again when the friction offsets began to turn with the cell (2026-11-28: -0.23 %;
-# state 6 held within 1e-3; docs/contact.md, "The cell's turn").
+# state 6 held within 1e-3; docs/contact.md, "The cell's turn"); the shear's normal stresses
+# added 2026-11-28 ("The normal stresses of their shear").
 PAPER = "docs/validation.md (The paper group's RVE)"
 PAPER_COMPARISON_FAST = {
     "ray 45 S11 state 6": Pin(16.145556258342886, SOLVED, PAPER),
@@ -264,6 +265,9 @@ PAPER_COMPARISON_FAST = {
     "ray 128 S22 state 9": Pin(37.38236586492049, SOLVED, PAPER),
     "shear S12 state 6": Pin(3.3758622669310916, SOLVED, PAPER),
     "shear S12 state 12": Pin(12.396191035563374, SOLVED, PAPER),
+    "shear S22 state 6": Pin(3.7727238463197574, SOLVED, PAPER),
+    "shear S11 state 12": Pin(-11.361610780148858, SOLVED, PAPER),
+    "shear S22 state 12": Pin(5.9674884036303535, SOLVED, PAPER),
 }
 # Their picture-frame shear at 5.5 from the squeezed rest (contact_radius="measured", the default
 # bending), 28 control points, S12 in gf/cm at their 6th state (19.8 degrees) of a 12-state
