@@ -14,6 +14,11 @@ A boundary takes one condition (given twice: refused); named boundaries never sh
 (the mesh refuses overlapping physical curves) and may meet at a corner node (the later
 Dirichlet value wins there). Every value that follows the load factor is a `LoadConstants`
 constant.
+
+The boundaries' lengths and mean displacements are integrals over each boundary alone: each
+boundary gets facet tags of its own with its facets under one id (`_BOUNDARY_ID`), so that one
+compiled form serves every boundary and component (the facets are data, only the id is
+compiled in; docs/benchmarks.md, "Form compilations").
 """
 
 from collections.abc import Sequence
@@ -21,6 +26,7 @@ from collections.abc import Sequence
 import numpy as np
 import ufl
 from dolfinx import fem
+from dolfinx import mesh as dmesh
 from mpi4py import MPI
 from petsc4py import PETSc
 
@@ -30,9 +36,14 @@ from rve_rod.errors import InputError
 
 __all__ = [
     "BoundaryLoads",
+    "BoundaryMeans",
     "LoadConstants",
     "check_overlaps",
 ]
+
+
+_BOUNDARY_ID = 1
+"""The id under which a boundary's own facet tags mark its facets (`BoundaryLoads.measures`)."""
 
 
 class LoadConstants:
@@ -95,6 +106,9 @@ class BoundaryLoads:
         external: the traction term sum_i int t_i . v ds_i (UFL form, at the current t), or
             None; subtract it from the residual.
         lengths: boundary name -> undeformed length (mm).
+        measures: boundary name -> ds over that boundary alone (facet tags of its own, id
+            `_BOUNDARY_ID`).
+        components: displacement components (2 or 3).
     """
 
     def __init__(
@@ -109,7 +123,7 @@ class BoundaryLoads:
         mesh = tagged.mesh
         fdim = mesh.topology.dim - 1
         components = space.num_sub_spaces
-        self._ds = ufl.Measure("ds", domain=mesh, subdomain_data=tagged.facet_tags)
+        ds = ufl.Measure("ds", domain=mesh, subdomain_data=tagged.facet_tags)
         self.bcs = []
         external = None
         v = ufl.TestFunction(space)
@@ -134,31 +148,58 @@ class BoundaryLoads:
                     self.bcs.append(fem.dirichletbc(value, dofs, space.sub(axis)))
             elif condition.kind == "traction":
                 value = constants.constant(_vector(condition, components))
-                term = ufl.inner(value, v) * self._ds(tagged.boundaries[condition.name])
+                term = ufl.inner(value, v) * ds(tagged.boundaries[condition.name])
                 external = term if external is None else external + term
         self.external = external
-        self.lengths = {
-            c.name: _integrate(fem.Constant(mesh, 1.0) * self._ds(tagged.boundaries[c.name]), mesh)
-            for c in conditions
-        }
-        self._tagged = tagged
-        self._components = components
-
-    def displacement_forms(self, u: fem.Function) -> dict[str, list[fem.forms.FormMetaClass]]:
-        """Boundary name -> compiled forms of int u_i ds over it, one per component (mm^2)."""
-        return {
-            c.name: [
-                fem.form(u[axis] * self._ds(self._tagged.boundaries[c.name]))
-                for axis in range(self._components)
-            ]
-            for c in self.conditions
-        }
+        self.measures = {c.name: _own_measure(tagged, c.name) for c in conditions}
+        one = fem.Constant(mesh, 1.0)
+        self.lengths = {name: _integrate(one * ds, mesh) for name, ds in self.measures.items()}
+        self.components = components
 
     def applied_force(self, name: str, load_factor: float) -> np.ndarray:
         """The force (N, one entry per component) of the traction on boundary `name` at load
         factor t (dead load)."""
         condition = next(c for c in self.conditions if c.name == name)
-        return load_factor * _vector(condition, self._components) * self.lengths[name]
+        return load_factor * _vector(condition, self.components) * self.lengths[name]
+
+
+class BoundaryMeans:
+    """The mean of a vector function u over each boundary of a `BoundaryLoads`: int u . e ds /
+    length with the direction e a Constant, so one compiled form serves every boundary and
+    component."""
+
+    def __init__(self, loads: BoundaryLoads, u: fem.Function):
+        mesh = u.function_space.mesh
+        self._direction = fem.Constant(mesh, np.zeros(loads.components, PETSc.ScalarType))
+        self._forms = {
+            name: fem.form(ufl.inner(u, self._direction) * ds)
+            for name, ds in loads.measures.items()
+        }
+        self._lengths = loads.lengths
+        self._components = loads.components
+        self._comm = mesh.comm
+
+    def __call__(self) -> dict[str, np.ndarray]:
+        """Boundary name -> mean of u (one entry per component) at its current value
+        (collective)."""
+        means = {}
+        for name, form in self._forms.items():
+            totals = np.empty(self._components)
+            for axis in range(self._components):
+                self._direction.value = np.eye(self._components)[axis]
+                totals[axis] = self._comm.allreduce(fem.assemble_scalar(form), op=MPI.SUM)
+            means[name] = totals / self._lengths[name]
+        return means
+
+
+def _own_measure(tagged: TaggedMesh, name: str) -> ufl.Measure:
+    """ds over boundary `name` alone: its facets tagged `_BOUNDARY_ID` in tags of their own."""
+    mesh = tagged.mesh
+    facets = np.sort(tagged.facets(name)).astype(np.int32)
+    tags = dmesh.meshtags(
+        mesh, mesh.topology.dim - 1, facets, np.full(facets.size, _BOUNDARY_ID, np.int32)
+    )
+    return ufl.Measure("ds", domain=mesh, subdomain_data=tags, subdomain_id=_BOUNDARY_ID)
 
 
 def _integrate(form, mesh) -> float:

@@ -56,7 +56,7 @@ from fabric_dolfinx.membrane.loads import (
 from fabric_dolfinx.membrane.quadrature import QuadratureMaterial
 from fabric_dolfinx.mesh.surfaces import axis_fields
 from fabric_dolfinx.mesh.tagged import TaggedMesh
-from fabric_dolfinx.part.boundary import BoundaryLoads, LoadConstants
+from fabric_dolfinx.part.boundary import BoundaryLoads, BoundaryMeans, LoadConstants
 from fabric_dolfinx.part.dome import Dome
 from fabric_dolfinx.part.fields import PartFields
 from fabric_dolfinx.part.probes import CellProbe
@@ -305,7 +305,7 @@ class PartProblem:
             reactions=reactions,
             update=self.material.update,
         )
-        self._displacement_forms = self.loads.displacement_forms(self.u)
+        self._boundary_means = BoundaryMeans(self.loads, self.u)
         self.dofs = function_space.dofmap.index_map.size_global * function_space.dofmap.index_map_bs
         self.probes = CellProbe(self, probes) if probes else None
         self.dome = None
@@ -445,12 +445,7 @@ class PartProblem:
     def boundary_displacements(self) -> dict[str, np.ndarray]:
         """Boundary name -> mean displacement (mm, one entry per component) at the current
         state (collective)."""
-        comm = self.tagged.mesh.comm
-        return {
-            name: np.array([comm.allreduce(fem.assemble_scalar(f), op=MPI.SUM) for f in forms])
-            / self.loads.lengths[name]
-            for name, forms in self._displacement_forms.items()
-        }
+        return self._boundary_means()
 
     def _range_checks(self) -> dict[str, StrainRangeCheck]:
         return {

@@ -1,16 +1,18 @@
 """Material laws and the material at the quadrature points against independent evaluations:
 the orthotropic compliance matrix, the numpy surface at each point's strain, a plain numpy
 rotation, each cell's own law and stitch value, NaN strains; and one compiled form for every
-surface (the forms' signatures, FFCx's compilations counted)."""
+surface (the forms' signatures, the forms asked of FFCx recorded)."""
 
+import contextlib
 import dataclasses
 
 import cffi
-import ffcx.codegeneration.jit
+import dolfinx.jit
 import numpy as np
 import pytest
 import ufl
 from dolfinx import fem, mesh
+from dolfinx.fem.petsc import set_bc
 from mpi4py import MPI
 from support.surface_cases import synthetic_surface
 
@@ -154,10 +156,60 @@ def test_each_cell_has_its_own_law_and_stitch_value():
     assert np.isfinite(stress[dofs[2]]).all()  # the cell away from the NaN node
 
 
+@contextlib.contextmanager
+def requested_forms():
+    """The signatures of the UFL forms DOLFINx asks FFCx for inside the block (compiled or
+    found in the cache: equal signatures share one compiled module)."""
+    requested = []
+    original = dolfinx.jit.ffcx_jit
+
+    def recorded(comm, ufl_object, *args, **kwargs):
+        if isinstance(ufl_object, ufl.Form):
+            requested.append(ufl_object.signature())
+        return original(comm, ufl_object, *args, **kwargs)
+
+    dolfinx.jit.ffcx_jit = recorded
+    try:
+        yield requested
+    finally:
+        dolfinx.jit.ffcx_jit = original
+
+
+def test_other_boundaries_compile_no_new_form_and_their_means_are_exact():
+    """The lengths and mean displacements of the boundaries are integrals over each boundary
+    alone (facet tags of its own under one id): a part with other boundaries asks for no form
+    the first did not (before, one per boundary and component). Each length is the rectangle's side,
+    each held boundary's mean its prescribed vector at t = 0.5 (the conditions applied)."""
+    tagged = make_mesh(MeshSpec("rectangle", {"width": 20.0, "height": 10.0}, element_size=5.0))
+    material = [Region("fabric", surface_material(SURFACE))]
+
+    def part(conditions):
+        problem = PartProblem(tagged, material, conditions)
+        problem.set_load_factor(0.5)
+        set_bc(problem.u.vector, problem.loads.bcs)
+        problem.u.x.scatter_forward()
+        return problem
+
+    with requested_forms() as first:
+        part([BoundaryCondition("left"), BoundaryCondition("right", "displacement", (1.0, 0.0))])
+    others = [
+        BoundaryCondition("bottom"),
+        BoundaryCondition("top", "displacement", (0.4, 2.0)),
+        BoundaryCondition("left", "free"),
+    ]
+    with requested_forms() as second:
+        problem = part(others)
+    assert set(second) <= set(first)
+    assert problem.loads.lengths == pytest.approx({"bottom": 20.0, "top": 20.0, "left": 10.0})
+    means = problem.boundary_displacements()
+    np.testing.assert_allclose(means["top"], [0.2, 1.0], rtol=1e-12)
+    np.testing.assert_allclose(means["bottom"], [0.0, 0.0], atol=1e-15)
+
+
 def test_different_surfaces_and_regions_compile_no_new_form():
     """The forms hold no number of the law: parts with another surface, with two regions or
     with a graded family have the residual and Jacobian of the first (equal signatures), and
-    building them compiles nothing (FFCx's compilations counted)."""
+    building them asks FFCx for no form the first did not (the requests recorded)."""
     tagged = make_mesh(MeshSpec("rectangle", {"width": 20.0, "height": 10.0}, element_size=5.0))
     conditions = [BoundaryCondition("left"), BoundaryCondition("right", "traction", (0.01, 0))]
     first, stiffer = surface_material(SURFACE), surface_material(STIFFER)
@@ -166,16 +218,9 @@ def test_different_surfaces_and_regions_compile_no_new_form():
         stepper = PartProblem(tagged, regions, conditions).stepper
         return stepper._residual_form, stepper._jacobian_form
 
-    reference = forms([Region("fabric", first, angle=10.0)])
-    compiled = []
-    original = ffcx.codegeneration.jit._compile_objects
-
-    def counted(*args, **kwargs):
-        compiled.append(args[1])
-        return original(*args, **kwargs)
-
-    ffcx.codegeneration.jit._compile_objects = counted
-    try:
+    with requested_forms() as reference_requests:
+        reference = forms([Region("fabric", first, angle=10.0)])
+    with requested_forms() as requested:
         others = [
             forms([Region("fabric", stiffer, angle=10.0)]),
             forms(
@@ -195,8 +240,6 @@ def test_different_surfaces_and_regions_compile_no_new_form():
                 ]
             ),
         ]
-    finally:
-        ffcx.codegeneration.jit._compile_objects = original
-    assert compiled == []
+    assert set(requested) <= set(reference_requests)
     signature = [[cffi.FFI().string(f.ufcx_form.signature) for f in pair] for pair in others]
     assert signature == [[cffi.FFI().string(f.ufcx_form.signature) for f in reference]] * 3
