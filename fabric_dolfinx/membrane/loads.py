@@ -12,9 +12,11 @@ the deformed area times its normal): a follower load. The load terms are differe
 `ufl.derivative`.
 
 An indenter moves with the load factor t: its state q(t) = start + t change (`motion`; a
-sphere's centre, a plane's point, a body of revolution's translation and radius scale) is a
+sphere's centre, a plane's point, a body of revolution's translation and radius scale, then
+the numbers that stay: a sphere's radius, a plane's unit normal, and last the penalty) is a
 `LoadConstants` constant, and `gap(x, q)` gives the gap and contact direction at a deformed
-point x.
+point x. Its numbers being a Constant's, the forms of every sphere (every plane) and penalty
+are one compiled form each (a body of revolution's profile stays in its forms).
 """
 
 from dataclasses import dataclass
@@ -49,10 +51,10 @@ def pressure_residual(u, pressure, frame: MaterialFrame, dx: ufl.Measure) -> ufl
     return pressure * ufl.dot(ufl.cross(F[:, 0], F[:, 1]), v) * dx
 
 
-def penalty_pressure(gap, penalty: float):
+def penalty_pressure(gap, penalty):
     """The contact pressure k <-gap> (N/mm^2 per undeformed area) of a penalty `penalty` k
-    (N/mm^3) at `gap` (mm, negative when the fabric is inside the indenter): the one law
-    of both indenters."""
+    (N/mm^3, a number or UFL scalar) at `gap` (mm, negative when the fabric is inside the
+    indenter): the one law of every indenter."""
     return penalty * ufl.conditional(ufl.lt(gap, 0.0), -gap, 0.0)
 
 
@@ -86,15 +88,17 @@ class SphereIndenter:
         _check_vectors(centre=self.centre, travel=self.travel)
 
     def motion(self) -> tuple[np.ndarray, np.ndarray]:
-        """(start, change) of its state, the centre (mm): q(t) = start + t change."""
-        return np.asarray(self.centre, dtype=float), np.asarray(self.travel, dtype=float)
+        """(start, change) of its state q(t) = start + t change: the centre (mm), then the
+        radius (mm) and the penalty."""
+        start = [*self.centre, self.radius, self.penalty]
+        return np.asarray(start, dtype=float), np.array([*self.travel, 0.0, 0.0], dtype=float)
 
-    def gap(self, position, origin):
-        """(gap |x - c| - R mm, unit vector from the centre c = `origin` to x) at the deformed
-        position x (UFL)."""
-        offset = position - origin
+    def gap(self, position, state):
+        """(gap |x - c| - R mm, unit vector from the centre c to x) at the deformed position x
+        (UFL), for the state q = (c, R, k) (a Constant (5,))."""
+        offset = position - ufl.as_vector([state[0], state[1], state[2]])
         distance = ufl.sqrt(ufl.dot(offset, offset))
-        return distance - self.radius, offset / distance
+        return distance - state[3], offset / distance
 
     def start_gaps(self, points: np.ndarray) -> np.ndarray:
         """The gaps (mm) of reference points (n, 3) at load factor 0."""
@@ -128,18 +132,21 @@ class PlaneIndenter:
             raise InputError("indenter normal=(0, 0, 0) has no direction")
 
     def motion(self) -> tuple[np.ndarray, np.ndarray]:
-        """(start, change) of its state, the plane's point (mm): q(t) = start + t change."""
-        return np.asarray(self.point, dtype=float), np.asarray(self.travel, dtype=float)
+        """(start, change) of its state q(t) = start + t change: the plane's point (mm), then
+        its unit normal and the penalty."""
+        start = [*self.point, *self._unit(), self.penalty]
+        return np.asarray(start, dtype=float), np.array([*self.travel, 0, 0, 0, 0], dtype=float)
 
     def _unit(self) -> np.ndarray:
         normal = np.asarray(self.normal, dtype=float)
         return normal / np.linalg.norm(normal)
 
-    def gap(self, position, origin):
-        """(gap (x - p) . n mm, the unit normal n) at the deformed position x (UFL), p the
-        plane's point `origin`."""
-        normal = ufl.as_vector(self._unit().tolist())
-        return ufl.dot(position - origin, normal), normal
+    def gap(self, position, state):
+        """(gap (x - p) . n mm, the unit normal n) at the deformed position x (UFL), for the
+        state q = (p, n, k) (a Constant (7,))."""
+        point = ufl.as_vector([state[0], state[1], state[2]])
+        normal = ufl.as_vector([state[3], state[4], state[5]])
+        return ufl.dot(position - point, normal), normal
 
     def start_gaps(self, points: np.ndarray) -> np.ndarray:
         """The gaps (mm) of reference points (n, 3) at load factor 0."""
@@ -201,13 +208,14 @@ class RevolutionIndenter:
         _check_vectors(travel=self.travel)
 
     def motion(self) -> tuple[np.ndarray, np.ndarray]:
-        """(start, change) of its state (dx, dy, dz mm, sigma): q(t) = start + t change."""
-        start = np.array([0.0, 0.0, 0.0, self.start_scale])
-        return start, np.array([*self.travel, 1.0 - self.start_scale])
+        """(start, change) of its state q(t) = start + t change: (dx, dy, dz mm, sigma), then
+        the penalty."""
+        start = np.array([0.0, 0.0, 0.0, self.start_scale, self.penalty])
+        return start, np.array([*self.travel, 1.0 - self.start_scale, 0.0])
 
     def gap(self, position, state):
         """(gap mm, unit normal n of the body) at the deformed position x (UFL), the body's
-        state q = (dx, dy, dz, sigma) (a Constant (4,))."""
+        state q = (dx, dy, dz, sigma, k) (a Constant (5,))."""
         offset = position - ufl.as_vector([state[0], state[1], state[2]])
         rho = ufl.sqrt(offset[0] ** 2 + offset[1] ** 2)
         radius, slope = profile_radius(self.profile, offset[2])
@@ -238,9 +246,10 @@ the contact direction at a point (`gap`)."""
 
 def contact_pressure(u, indenter: Indenter, state, frame: MaterialFrame):
     """(contact pressure k <-gap> N/mm^2 per undeformed area, its unit direction on the
-    fabric) at u, for the indenter in `state` (a Constant, `Indenter.motion`)."""
+    fabric) at u, for the indenter in `state` (a Constant, `Indenter.motion`; the penalty k
+    its last entry)."""
     gap, direction = indenter.gap(frame.position + u, state)
-    return penalty_pressure(gap, indenter.penalty), direction
+    return penalty_pressure(gap, state[ufl.shape(state)[0] - 1]), direction
 
 
 def contact_residual(u, indenter: Indenter, state, frame: MaterialFrame, dx: ufl.Measure):

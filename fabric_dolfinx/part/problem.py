@@ -284,7 +284,8 @@ class PartProblem:
             residual = residual - self.loads.external
         self.indenter = self.indenter_state = None
         self.previous = fem.Function(function_space)
-        self._stabilization = self._stabilization_form = self._indenter_forms = None
+        self._stabilization = self._stabilization_form = None
+        self._indenter_form = self._force_axis = None
         if space is not None:
             follower = self._space_loads(space, dx)
             if follower is not None:
@@ -361,7 +362,8 @@ class PartProblem:
             self.indenter_state = state = self.constants.constant(change, start)
             loads.append(contact_residual(self.u, indenter, state, self.frame, dx))
             contact, direction = contact_pressure(self.u, indenter, state, self.frame)
-            self._indenter_forms = [fem.form(-contact * direction[i] * dx) for i in range(3)]
+            self._force_axis = fem.Constant(self.tagged.mesh, np.zeros(3, PETSc.ScalarType))
+            self._indenter_form = fem.form(-contact * ufl.dot(direction, self._force_axis) * dx)
         if space.stabilization > 0.0:
             mesh = self.tagged.mesh
             self._stabilization = fem.Constant(mesh, PETSc.ScalarType(space.stabilization))
@@ -430,9 +432,11 @@ class PartProblem:
     def indenter_force(self) -> np.ndarray:
         """(Fx, Fy, Fz) N the fabric exerts on the indenter at the current state (collective)."""
         comm = self.tagged.mesh.comm
-        return np.array(
-            [comm.allreduce(fem.assemble_scalar(f), op=MPI.SUM) for f in self._indenter_forms]
-        )
+        force = np.empty(3)
+        for axis in range(3):
+            self._force_axis.value = np.eye(3)[axis]
+            force[axis] = comm.allreduce(fem.assemble_scalar(self._indenter_form), op=MPI.SUM)
+        return force
 
     def peak_displacement(self) -> float:
         """The largest deflection |u_z| of a flat part, the largest displacement |u| of a

@@ -25,6 +25,7 @@ from fabric_dolfinx.part.problem import PartProblem
 from fabric_dolfinx.part.regions import Region
 from fabric_dolfinx.spec.expression import FieldExpression
 from fabric_dolfinx.spec.part import BoundaryCondition, MeshSpec
+from fabric_dolfinx.spec.space import IndenterSpec, SpaceSpec
 from rve_rod.errors import InputError
 
 SURFACE = synthetic_surface()
@@ -204,6 +205,38 @@ def test_other_boundaries_compile_no_new_form_and_their_means_are_exact():
     means = problem.boundary_displacements()
     np.testing.assert_allclose(means["top"], [0.2, 1.0], rtol=1e-12)
     np.testing.assert_allclose(means["bottom"], [0.0, 0.0], atol=1e-15)
+
+
+def test_other_indenters_and_penalties_ask_for_no_new_form():
+    """An indenter's numbers (a sphere's radius, a plane's normal, the penalty) are a
+    Constant's, and its force is one form with the axis a Constant: a disc pressed by another
+    sphere or plane asks FFCx for no form the first did not (before, a residual, a Jacobian
+    and three force forms for each)."""
+    tagged = make_mesh(MeshSpec("disc", {"radius": 10.0}, element_size=5.0))
+    svk = [Region("fabric", svk_material(OrthotropicSVK(10.0, 10.0, 0.3, 10.0 / 2.6)))]
+
+    def disc(indenter):
+        space = SpaceSpec(indenter=indenter)
+        return PartProblem(tagged, svk, [BoundaryCondition("rim")], space=space)
+
+    sphere = {"travel": (0.0, 0.0, -1.0), "shape": "sphere"}
+    plane = {"travel": (0.0, 0.0, -1.0), "shape": "plane", "point": (0.0, 0.0, 1.0)}
+    for first, other in (
+        (
+            IndenterSpec(**sphere, radius=3.0, centre=(0.0, 0.0, 4.0), penalty=100.0),
+            IndenterSpec(**sphere, radius=5.0, centre=(1.0, 0.0, 6.0), penalty=1e4),
+        ),
+        (
+            IndenterSpec(**plane, normal=(0.0, 0.0, -1.0), penalty=100.0),
+            IndenterSpec(**plane, normal=(0.1, 0.0, -1.0), penalty=10.0),
+        ),
+    ):
+        with requested_forms() as requested_first:
+            disc(first)
+        with requested_forms() as requested_other:
+            problem = disc(other)
+        assert set(requested_other) <= set(requested_first)
+        assert problem.indenter_force() == pytest.approx(np.zeros(3), abs=1e-15)
 
 
 def test_different_surfaces_and_regions_compile_no_new_form():
