@@ -18,7 +18,7 @@ constant.
 The boundaries' lengths and mean displacements are integrals over each boundary alone: each
 boundary gets facet tags of its own with its facets under one id (`_BOUNDARY_ID`), so that one
 compiled form serves every boundary and component (the facets are data, only the id is
-compiled in; docs/benchmarks.md, "Form compilations").
+compiled in; `VectorIntegral`; docs/benchmarks.md, "Form compilations").
 """
 
 from collections.abc import Sequence
@@ -31,6 +31,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from fabric_dolfinx.mesh.tagged import TaggedMesh
+from fabric_dolfinx.part.integrals import VectorIntegral
 from fabric_dolfinx.spec.part import AXES, BoundaryCondition
 from rve_rod.errors import InputError
 
@@ -164,32 +165,18 @@ class BoundaryLoads:
 
 
 class BoundaryMeans:
-    """The mean of a vector function u over each boundary of a `BoundaryLoads`: int u . e ds /
-    length with the direction e a Constant, so one compiled form serves every boundary and
-    component."""
+    """The mean of a vector function u over each boundary of a `BoundaryLoads` (int u ds /
+    length; one compiled form for every boundary and component: `VectorIntegral`)."""
 
     def __init__(self, loads: BoundaryLoads, u: fem.Function):
         mesh = u.function_space.mesh
-        self._direction = fem.Constant(mesh, np.zeros(loads.components, PETSc.ScalarType))
-        self._forms = {
-            name: fem.form(ufl.inner(u, self._direction) * ds)
-            for name, ds in loads.measures.items()
-        }
+        self._integrals = {name: VectorIntegral(u, ds, mesh) for name, ds in loads.measures.items()}
         self._lengths = loads.lengths
-        self._components = loads.components
-        self._comm = mesh.comm
 
     def __call__(self) -> dict[str, np.ndarray]:
         """Boundary name -> mean of u (one entry per component) at its current value
         (collective)."""
-        means = {}
-        for name, form in self._forms.items():
-            totals = np.empty(self._components)
-            for axis in range(self._components):
-                self._direction.value = np.eye(self._components)[axis]
-                totals[axis] = self._comm.allreduce(fem.assemble_scalar(form), op=MPI.SUM)
-            means[name] = totals / self._lengths[name]
-        return means
+        return {name: total() / self._lengths[name] for name, total in self._integrals.items()}
 
 
 def _own_measure(tagged: TaggedMesh, name: str) -> ufl.Measure:

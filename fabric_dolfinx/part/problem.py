@@ -59,6 +59,7 @@ from fabric_dolfinx.mesh.tagged import TaggedMesh
 from fabric_dolfinx.part.boundary import BoundaryLoads, BoundaryMeans, LoadConstants
 from fabric_dolfinx.part.dome import Dome
 from fabric_dolfinx.part.fields import PartFields
+from fabric_dolfinx.part.integrals import VectorIntegral
 from fabric_dolfinx.part.probes import CellProbe
 from fabric_dolfinx.part.range_check import StrainRangeCheck
 from fabric_dolfinx.part.regions import Region, assign_regions, cell_field
@@ -285,7 +286,7 @@ class PartProblem:
         self.indenter = self.indenter_state = None
         self.previous = fem.Function(function_space)
         self._stabilization = self._stabilization_form = None
-        self._indenter_form = self._force_axis = None
+        self._indenter_force = None
         if space is not None:
             follower = self._space_loads(space, dx)
             if follower is not None:
@@ -362,8 +363,7 @@ class PartProblem:
             self.indenter_state = state = self.constants.constant(change, start)
             loads.append(contact_residual(self.u, indenter, state, self.frame, dx))
             contact, direction = contact_pressure(self.u, indenter, state, self.frame)
-            self._force_axis = fem.Constant(self.tagged.mesh, np.zeros(3, PETSc.ScalarType))
-            self._indenter_form = fem.form(-contact * ufl.dot(direction, self._force_axis) * dx)
+            self._indenter_force = VectorIntegral(-contact * direction, dx, self.tagged.mesh)
         if space.stabilization > 0.0:
             mesh = self.tagged.mesh
             self._stabilization = fem.Constant(mesh, PETSc.ScalarType(space.stabilization))
@@ -431,12 +431,7 @@ class PartProblem:
 
     def indenter_force(self) -> np.ndarray:
         """(Fx, Fy, Fz) N the fabric exerts on the indenter at the current state (collective)."""
-        comm = self.tagged.mesh.comm
-        force = np.empty(3)
-        for axis in range(3):
-            self._force_axis.value = np.eye(3)[axis]
-            force[axis] = comm.allreduce(fem.assemble_scalar(self._indenter_form), op=MPI.SUM)
-        return force
+        return self._indenter_force()
 
     def peak_displacement(self) -> float:
         """The largest deflection |u_z| of a flat part, the largest displacement |u| of a
