@@ -10,7 +10,8 @@ readings of their data (README of rve_rod/data/weeger_group_rve) and the paper's
         [--bending section] [--contact-lumping point] [--balanced-contact]
         [--figures docs/figures] [--states 20]
 
-About 15 minutes on one core at 68 control points, 3 at 28.
+About 85 s at 68 control points on the shared 2-core machine (2026-11-28; the shear panel
+also shows the normal stresses S11, S22 of the shear).
 """
 
 import argparse
@@ -155,6 +156,17 @@ def print_uniaxial(stitch, uniaxial):
     print()
 
 
+def status(comparison) -> str:
+    """A panel's title: the worst error, or why there is none."""
+    if comparison.states == 0:
+        return "no converged state of theirs"
+    errors = comparison.errors()[: comparison.reached]
+    worst = f"worst error {errors.max():.2f}" if errors.size else "no state of ours"
+    if comparison.reached < comparison.states:
+        return f"{worst}, ours stopped at state {comparison.reached} of {comparison.states}"
+    return worst
+
+
 def plot(stitch, runs, shear, uniaxial, args) -> Figure:
     figure = Figure(figsize=(16, 13), layout="constrained")
     axes = figure.subplots(4, 4).ravel()
@@ -168,7 +180,10 @@ def plot(stitch, runs, shear, uniaxial, args) -> Figure:
                 np.arctan2(reference.deformation[:, 0, 1], reference.deformation[:, 1, 1])
             )
             x_label = "shear angle (deg)"
-        for (a, b), colour in zip(comparison.components, ("C0", "C3"), strict=False):
+        drawn = zip(comparison.components, ("C0", "C3"), strict=False)
+        if reference.kind == "shear":  # S12 and the normal stresses it causes (E11 = E22 = 0)
+            drawn = (((0, 1), "k"), ((0, 0), "C0"), ((1, 1), "C3"))
+        for (a, b), colour in drawn:
             theirs = gf(0.5 * (reference.second_piola[:, a, b] + reference.second_piola[:, b, a]))
             label = f"S{a + 1}{b + 1}"
             ax.plot(
@@ -179,7 +194,9 @@ def plot(stitch, runs, shear, uniaxial, args) -> Figure:
                 ours = gf(comparison.second_piola[:, a, b])
                 ax.plot(t[: comparison.states], ours, "-", color=colour, label=f"{label} ours")
         title = "shear" if reference.kind == "shear" else f"ray {reference.angle_deg:.0f} deg"
-        ax.set_title(f"{title}: worst error {comparison.worst():.2f}", fontsize=9)
+        ax.set_title(f"{title}: {status(comparison)}", fontsize=9)
+        if reference.kind == "shear":
+            ax.legend(fontsize=7)
         ax.set_xlabel(x_label, fontsize=8)
         ax.set_ylabel("S (gf/cm)", fontsize=8)
         ax.tick_params(labelsize=7)
