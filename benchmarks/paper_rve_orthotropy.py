@@ -29,12 +29,12 @@ from rve_rod.rve.simulation import RveSettings
 
 def shares(stitch: float, control_points: int) -> dict[str, tuple[list, list]]:
     """Per model, the shear shares along the tension rays and along the other rays."""
-    tension = {id(ray) for ray in axis_rays(stitch, TENSION_RAYS)}
+    tension = {ray.angle_deg for ray in axis_rays(stitch, TENSION_RAYS)}
     rays = [ray for ray in biaxial_rays(stitch) if ray.converged >= 2]
     fabric = load_preset("cotton-20s2", stitch)
     out = {"theirs": ([], [])}
     for ray in rays:
-        out["theirs"][id(ray) not in tension].append(
+        out["theirs"][ray.angle_deg not in tension].append(
             shear_share(ray.second_piola[1 : ray.converged])
         )
     models = (("ours, two-pass (the default)", False), ("ours, balanced contact", True))
@@ -45,7 +45,7 @@ def shares(stitch: float, control_points: int) -> dict[str, tuple[list, list]]:
         for ray in rays:
             ours = compare_run(fabric, ray, settings)
             if ours.reached >= 2:
-                out[name][id(ray) not in tension].append(shear_share(ours.second_piola[1:]))
+                out[name][ray.angle_deg not in tension].append(shear_share(ours.second_piola[1:]))
     return out
 
 
