@@ -301,9 +301,12 @@ def secant_at_rest(rays: list[GroupRun], stresses: np.ndarray | None = None) -> 
 def shear_share(stresses: np.ndarray) -> float:
     """How far a run under normal strains is from orthotropic: the largest |S12|, |S21| over
     the largest |S11|, |S22| of its states, stresses (k, 2, 2) (NaN states skipped; 0 for an
-    orthotropic cell whose axes are the strain's, as a knit mirror symmetric about its wale)."""
-    stresses = np.asarray(stresses)
+    orthotropic cell whose axes are the strain's, as a knit mirror symmetric about its wale;
+    NaN when no state is finite)."""
+    stresses = np.asarray(stresses).reshape(-1, 2, 2)
     stresses = stresses[np.isfinite(stresses).all(axis=(1, 2))]
+    if stresses.size == 0:
+        return float("nan")
     shear = np.abs(stresses[:, [0, 1], [1, 0]]).max()
     return float(shear / np.abs(stresses[:, [0, 1], [0, 1]]).max())
 

@@ -21,6 +21,7 @@ from rve_rod.rve.paper.comparison import (
     loop_profile_runner,
     run_case,
     secant_at_rest,
+    shear_share,
     taut_loop_split,
 )
 from rve_rod.rve.paper.data import biaxial_rays, shear_run
@@ -86,6 +87,17 @@ def test_runs_without_converged_states_are_not_compared():
         load_preset("cotton-20s2", 5.5), equibiaxial_compression, RveSettings()
     )
     assert (comparison.states, comparison.worst()) == (0, 0.0)
+
+
+def test_the_shear_share_is_the_largest_shear_over_the_largest_normal_stress():
+    """Over the finite states, max |S12|, |S21| over max |S11|, |S22|; 0 for diagonal S, NaN
+    without a finite state."""
+    stresses = np.array([[[1.0, 0.02], [0.01, -2.0]], [[4.0, -0.1], [0.05, 3.0]]])
+    assert shear_share(stresses) == pytest.approx(0.1 / 4.0)
+    with_nan = np.concatenate([stresses, np.full((1, 2, 2), np.nan)])
+    assert shear_share(with_nan) == pytest.approx(0.1 / 4.0)
+    assert shear_share(np.array([np.diag([1.0, 2.0])])) == 0.0
+    assert np.isnan(shear_share(np.full((2, 2, 2), np.nan)))
 
 
 def test_the_secant_at_rest_of_a_linear_material_is_its_stiffness():
