@@ -37,7 +37,6 @@ from knitmech.report import (
 from knitmech.scene import Scene, SceneError
 from knitmech.scene.fabric import part_problems
 from knitmech.stages import (
-    SURFACE_FIGURE,
     SURFACE_FILE,
     RunPlan,
     SurfaceRuns,
@@ -222,12 +221,9 @@ def run_scene(  # noqa: PLR0913 (the scene and the keyword options of `knitmech 
                 runs = SurfaceRuns(ResultCache(cache_dir / "rve-runs"), choice, progress)
                 surface = SurfaceSummary.from_json(run(surface_stage(plan, runs)))
             else:
-                begun = time.perf_counter()
-                surface = given_surface(Path(plan.scene.surface.path), folder)
-                files = (SURFACE_FILE, SURFACE_FIGURE)
-                records.append(
-                    StageRecord("surface", "", GIVEN, time.perf_counter() - begun, "", files)
-                )
+                outcome = stages.run(given_surface(Path(plan.scene.surface.path)), folder)
+                records.append(dataclasses.replace(outcome.record, status=GIVEN))
+                surface = SurfaceSummary.from_json(outcome.summary)
         macro, fabric, knit_summaries = {}, None, {}
         if part is None:
             macro = {

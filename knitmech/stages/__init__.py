@@ -257,13 +257,20 @@ def surface_stage(plan: RunPlan, runs: SurfaceRuns) -> Stage:
     return Stage("surface", "", inputs, compute)
 
 
-def given_surface(path: Path, folder: Path) -> SurfaceSummary:
-    """Copy a surface file the scene gives into `folder`, plot it; returns its summary."""
+def given_surface(path: Path) -> Stage:
+    """The surface file a scene gives, copied into the results folder with its figure and
+    summary: keyed by the file's path and content, so that runs on one file plot it once (a
+    design's evaluations ran the 1.5 s plot each)."""
+    path = Path(path)
+    inputs = {"version": STAGE_VERSION, "path": str(path), "digest": file_digest(path)}
 
-    shutil.copyfile(path, folder / SURFACE_FILE)
-    surface = read_surface(folder / SURFACE_FILE)
-    _plot_surface(surface, folder)
-    return dataclasses.replace(surface_summary(surface), source=str(path))
+    def compute(folder: Path) -> dict:
+        shutil.copyfile(path, folder / SURFACE_FILE)
+        surface = read_surface(folder / SURFACE_FILE)
+        _plot_surface(surface, folder)
+        return dataclasses.replace(surface_summary(surface), source=str(path)).to_json()
+
+    return Stage("surface", "", inputs, compute)
 
 
 def surface_summary(surface) -> SurfaceSummary:

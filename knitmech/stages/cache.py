@@ -76,9 +76,10 @@ class StageRecord:
     Attributes:
         stage: the stage's name.
         item: the item within the stage.
-        status: COMPUTED, CACHED or GIVEN.
+        status: COMPUTED, CACHED or GIVEN (the surface file a scene gives: its copy, figure
+            and summary are cached all the same, under `key`).
         wall_time_s: time spent, computing or restoring from the cache (s).
-        key: the cache key (SHA-256 hex), "" for a stage that is not cached.
+        key: the cache key (SHA-256 hex).
         files: the files it wrote, relative to the results folder.
     """
 

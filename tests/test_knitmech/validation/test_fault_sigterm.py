@@ -36,7 +36,7 @@ path = "{surface}"
 [macro]
 directions = ["course"]
 elements = 24
-steps = 80
+steps = 40
 max_strain = 0.2
 ranks = 2
 """
@@ -76,10 +76,10 @@ name = "right"
 kind = "displacement"
 displacement = [10.0, 2.0]
 [macro]
-steps = 80
+steps = 40
 ranks = 2
 """
-"""A part (an SVK square, 40 x 40 elements, 80 steps, 2 ranks) whose fabric stage lasts well
+"""A part (an SVK square, 40 x 40 elements, 40 steps, 2 ranks) whose fabric stage lasts well
 beyond the moment the test sends the signal."""
 
 
@@ -139,7 +139,7 @@ def test_the_mpi_macro_stage_runs_from_a_process_that_initialized_mpi(tmp_path):
     variables in the environment; an mpirun that inherits them exits 1 without a word. The
     macro stage must not pass them on (knitmech.jobs.launch.MPI_JOB_VARIABLES)."""
     scene = tmp_path / "scene.toml"
-    tiny = SCENE.replace("elements = 24", "elements = 4").replace("steps = 80", "steps = 1")
+    tiny = SCENE.replace("elements = 24", "elements = 4").replace("steps = 40", "steps = 1")
     assert tiny != SCENE  # the scene above still has the lines this test shrinks
     scene.write_text(tiny.format(surface=default_surface_path()))
     command = [KNITMECH, "run", str(scene), "-o", str(tmp_path / "results")]
