@@ -83,7 +83,7 @@ def test_knitmech_run_off_a_terminal_prints_one_line_per_stage(tmp_path):
     environment = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "xdg")}
     run = subprocess.run(command, capture_output=True, text=True, env=environment, check=True)
     lines = run.stderr.splitlines()
-    stages = ["geometry", "meso uniaxial-course", "macro course"]
+    stages = ["geometry", "meso uniaxial-course", "surface", "macro course"]  # surface: given
     assert [line.split(": ")[1] for line in lines] == stages, run.stderr
     assert all(line.startswith("INFO knitmech.stages.cache: ") for line in lines)
     assert all(": computed in " in line for line in lines)
