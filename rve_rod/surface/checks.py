@@ -127,6 +127,8 @@ def _free_lateral_strains(lateral_stress, strain: np.ndarray) -> np.ndarray:
             change = ~found & (signs[end] != signs[start])
             low[change] = np.minimum(offsets[end], offsets[start])
             high[change] = np.maximum(offsets[end], offsets[start])
+            on_grid = change & (signs[end] == 0.0)  # the root itself: no bracket to search
+            low[on_grid] = high[on_grid] = offsets[end]
             found |= change
     if not found.all():
         missing = float(strain[np.flatnonzero(~found)[0]])
@@ -144,9 +146,13 @@ def _free_lateral_strains(lateral_stress, strain: np.ndarray) -> np.ndarray:
         high = np.where(left, high, root)
         with np.errstate(divide="ignore", invalid="ignore"):
             newton = root - value / slope
-        inside = np.isfinite(newton) & (newton > low) & (newton < high)
+        tolerance = 1e-15 + 4e-16 * np.abs(root)
+        # converged when Newton's own step is below round-off, wherever it points: a root
+        # that became an end of the bracket used to be bisected towards from the far end
+        done |= (value == 0.0) | (np.abs(newton - root) <= tolerance)
+        inside = np.isfinite(newton) & (newton >= low) & (newton <= high)
         step = np.where(inside, newton, 0.5 * (low + high)) - root
-        done |= (value == 0.0) | (np.abs(step) <= 1e-15 + 4e-16 * np.abs(root))
+        done |= np.abs(step) <= tolerance
         if done.all():
             return root
         root = np.where(done, root, root + step)
