@@ -41,7 +41,7 @@ max_strain = 0.2
 def test_a_second_run_into_a_busy_results_folder_is_refused(tmp_path):
     results, cache = tmp_path / "results", tmp_path / "cache"
     scenes = {}
-    for name, elements, steps in (("first", 24, 80), ("second", 2, 2)):
+    for name, elements, steps in (("first", 24, 40), ("second", 2, 2)):
         scenes[name] = tmp_path / f"{name}.toml"
         text = SCENE.format(
             name=name, surface=default_surface_path(), elements=elements, steps=steps
