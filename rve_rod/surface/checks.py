@@ -147,8 +147,8 @@ def _free_lateral_strains(lateral_stress, strain: np.ndarray) -> np.ndarray:
         with np.errstate(divide="ignore", invalid="ignore"):
             newton = root - value / slope
         tolerance = 1e-15 + 4e-16 * np.abs(root)
-        # converged when Newton's own step is below round-off, wherever it points: a root
-        # that became an end of the bracket used to be bisected towards from the far end
+        # converged when Newton's own step is below round-off, wherever it points: a root at
+        # an end of the bracket is not then approached by bisection from the other end
         done |= (value == 0.0) | (np.abs(newton - root) <= tolerance)
         inside = np.isfinite(newton) & (newton >= low) & (newton <= high)
         step = np.where(inside, newton, 0.5 * (low + high)) - root
