@@ -48,7 +48,9 @@ def test_the_squeezed_rests_shear_is_pinned():
     """Their picture-frame shear at 5.5 from the squeezed rest (the law at the yarn's own
     radius, `YarnSettings.contact_radius = "measured"`), with and without friction, at their
     6th state (19.8 degrees; docs/validation.md, "A pre-loaded rest, measured objectively"):
-    the number the objective rest stress and the turning friction offsets moved most."""
+    the number the objective rest stress and the turning friction offsets moved most. With
+    friction it runs all 12 states: runs of 6 or 8 states stop in a stick/slip chatter of the
+    pressed contacts (docs/validation.md, "Why the squeezed rest's shear stops")."""
     fabric = load_preset("cotton-20s2", 5.5)
     measured = {}
     for label, friction in (("friction", True), ("frictionless", False)):
