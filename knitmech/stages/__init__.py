@@ -260,7 +260,7 @@ def surface_stage(plan: RunPlan, runs: SurfaceRuns) -> Stage:
 def given_surface(path: Path) -> Stage:
     """The surface file a scene gives, copied into the results folder with its figure and
     summary: keyed by the file's path and content, so that runs on one file plot it once (a
-    design runs its scene at every evaluation; the plot takes 0.6-1.5 s)."""
+    design runs its scene at every evaluation; the plot takes about 0.5 s)."""
     path = Path(path)
     inputs = {"version": STAGE_VERSION, "path": str(path), "digest": file_digest(path)}
 

@@ -170,7 +170,7 @@ def test_only_what_the_scene_needs_is_run(runs, tmp_path):
 @pytest.mark.slow
 def test_a_given_surface_is_plotted_once_per_file(runs, tmp_path, monkeypatch):
     """Runs on one given file restore its copy, figure and summary from the stage cache (a
-    design runs its scene at every evaluation, and the plot took 0.6-1.5 s of each); the same
+    design runs its scene at every evaluation, and the plot took about 0.5 s of each); the same
     bytes at another path are another entry (the summary names the path)."""
     plotted = []
     monkeypatch.setattr(
