@@ -221,7 +221,7 @@ def run_scene(  # noqa: PLR0913 (the scene and the keyword options of `knitmech 
                 runs = SurfaceRuns(ResultCache(cache_dir / "rve-runs"), choice, progress)
                 surface = SurfaceSummary.from_json(run(surface_stage(plan, runs)))
             else:
-                outcome = stages.run(given_surface(Path(plan.scene.surface.path)), folder)
+                outcome = stages.run(given_surface(plan.scene.surface.path), folder)
                 records.append(dataclasses.replace(outcome.record, status=GIVEN))
                 surface = SurfaceSummary.from_json(outcome.summary)
         macro, fabric, knit_summaries = {}, None, {}
