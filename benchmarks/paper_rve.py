@@ -59,6 +59,8 @@ def arguments():
 
 def main():
     args = arguments()
+    if args.figures is not None:  # made before the runs: a missing folder lost them at the end
+        args.figures.mkdir(parents=True, exist_ok=True)
     settings = RveSettings(
         cell=CellSettings(
             control_points=args.control_points,
