@@ -49,15 +49,15 @@ def test_the_squeezed_rests_shear_is_pinned():
     radius, `YarnSettings.contact_radius = "measured"`), with and without friction, at their
     6th state (19.8 degrees; docs/validation.md, "A pre-loaded rest, measured objectively"):
     the number the objective rest stress and the turning friction offsets moved most. With
-    friction it runs all 12 states: runs of 6 or 8 states stop in a stick/slip chatter of the
-    pressed contacts (docs/validation.md, "Why the squeezed rest's shear stops")."""
+    friction it runs all 12 states: a run of 6 states meets a fold of its frictional path
+    (test_squeezed_fold.py); frictionless, 6 states."""
     fabric = load_preset("cotton-20s2", 5.5)
     measured = {}
-    for label, friction in (("friction", True), ("frictionless", False)):
+    for label, friction, states in (("friction", True, 12), ("frictionless", False, 6)):
         settings = RveSettings(
             cell=CellSettings(control_points=28),
             yarn=YarnSettings(contact_radius="measured", friction=friction),
         )
-        shear = compare_run(fabric, shear_run(5.5), settings, states=12).second_piola
+        shear = compare_run(fabric, shear_run(5.5), settings, states=states).second_piola
         measured[f"squeezed, {label}: shear S12 state 6"] = n_per_mm_to_gf_per_cm(shear[5, 0, 1])
     assert_pinned("PAPER_PRELOADED_SHEAR_FAST", measured)

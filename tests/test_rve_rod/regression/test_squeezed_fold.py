@@ -1,0 +1,71 @@
+"""Why the squeezed rest's shear stops in a 6-state run (docs/validation.md, "Why the squeezed
+rest's shear stops: a fold of its frictional path"): the path reaches a limit point.
+
+At a fold of R(u, t) = 0 one singular value of the Jacobian goes to zero as the square root of
+the distance to the fold's load factor, so along the converged states that creep towards the
+stop the product of the two smallest singular values (the other one stays put) squared falls
+linearly in t and crosses zero where the run stops: no Newton iteration can reach a state
+beyond it, whatever the increment. The test fits that line to the states past the last
+target and checks that it is a line and that it crosses zero within 1e-5 of the stop.
+"""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from rve_rod.presets import load_preset
+from rve_rod.rve import simulation
+from rve_rod.rve.cell import CellSettings
+from rve_rod.rve.paper.comparison import compare_run
+from rve_rod.rve.paper.data import shear_run
+from rve_rod.rve.simulation import RveSettings
+from rve_rod.rve.yarn import YarnSettings
+
+
+def softest_pair(problem, state: np.ndarray, load_factor: float) -> float:
+    """The product of the two smallest singular values of the Jacobian scaled to the
+    problem's dimensionless norms (rows by residual_scale, columns by state_scale)."""
+    residual, jacobian = problem.evaluate(state, load_factor)
+    scaled = (
+        jacobian.toarray()
+        / np.asarray(problem.residual_scale)[:, None]
+        * np.broadcast_to(problem.state_scale, residual.shape)[None, :]
+    )
+    values = np.linalg.svd(scaled, compute_uv=False)
+    return float(values[-1] * values[-2])
+
+
+@pytest.mark.slow
+def test_the_six_state_run_stops_at_a_fold_of_its_path(monkeypatch):
+    accepted = []  # (load factor, product) of every accepted state
+
+    def recording_path(problem, initial_state, load_factors, **options):
+        commit = problem.commit
+
+        def measured_commit(state, load_factor):
+            accepted.append((load_factor, softest_pair(problem, state, load_factor)))
+            commit(state, load_factor)
+
+        recording = dataclasses.replace(problem, commit=measured_commit)
+        return solve_path(recording, initial_state, load_factors, **options)
+
+    solve_path = simulation.solve_path
+    monkeypatch.setattr(simulation, "solve_path", recording_path)
+    settings = RveSettings(
+        cell=CellSettings(control_points=28), yarn=YarnSettings(contact_radius="measured")
+    )
+    run = compare_run(load_preset("cotton-20s2", 5.5), shear_run(5.5), settings, states=6)
+
+    assert run.reached == 0  # it stops before their first state (3.3 degrees)
+    load_factor, product = np.array(accepted).T
+    near = load_factor > load_factor[-1] - 1e-4  # the states within 1e-4 of the stop
+    t, p2 = load_factor[near], product[near] ** 2
+    assert t.size >= 4
+    slope, intercept = np.polyfit(t, p2, 1)
+    fitted = slope * t + intercept
+    assert np.max(np.abs(fitted - p2)) < 0.1 * p2.max()
+    fold = -intercept / slope
+    assert slope < 0.0
+    assert t[-1] <= fold < t[-1] + 1e-5
+    assert 0.146 < t[-1] < 0.1463
