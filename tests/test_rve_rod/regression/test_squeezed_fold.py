@@ -5,8 +5,9 @@ At a fold of R(u, t) = 0 one singular value of the Jacobian goes to zero as the 
 the distance to the fold's load factor, so along the converged states that creep towards the
 stop the product of the two smallest singular values (the other one stays put) squared falls
 linearly in t and crosses zero where the run stops: no Newton iteration can reach a state
-beyond it, whatever the increment. The test fits that line to the states past the last
-target and checks that it is a line and that it crosses zero within 1e-5 of the stop.
+beyond it, whatever the increment. The test fits that line to the converged states within
+1e-4 of the stop and checks that it is a line that crosses zero within 1e-5 beyond the last.
+(Frictionless, the same 6 states converge: test_pinned_paper_comparison.py.)
 """
 
 import dataclasses
@@ -39,6 +40,7 @@ def softest_pair(problem, state: np.ndarray, load_factor: float) -> float:
 @pytest.mark.slow
 def test_the_six_state_run_stops_at_a_fold_of_its_path(monkeypatch):
     accepted = []  # (load factor, product) of every accepted state
+    solve_path = simulation.solve_path
 
     def recording_path(problem, initial_state, load_factors, **options):
         commit = problem.commit
@@ -50,7 +52,6 @@ def test_the_six_state_run_stops_at_a_fold_of_its_path(monkeypatch):
         recording = dataclasses.replace(problem, commit=measured_commit)
         return solve_path(recording, initial_state, load_factors, **options)
 
-    solve_path = simulation.solve_path
     monkeypatch.setattr(simulation, "solve_path", recording_path)
     settings = RveSettings(
         cell=CellSettings(control_points=28), yarn=YarnSettings(contact_radius="measured")
