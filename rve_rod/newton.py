@@ -91,6 +91,7 @@ __all__ = [
     "PathResult",
     "StepRecord",
     "newton_solve",
+    "softest_singular_values",
     "solve_path",
 ]
 
@@ -285,6 +286,22 @@ def _mean_square(values: np.ndarray, scale) -> float:
     with np.errstate(over="ignore", invalid="ignore"):
         value = float(np.mean((values / scale) ** 2)) if values.size else 0.0
     return value if np.isfinite(value) else np.inf
+
+
+def softest_singular_values(
+    problem: NonlinearProblem, state: np.ndarray, load_factor: float, count: int = 3
+) -> np.ndarray:
+    """The `count` smallest singular values of the Jacobian at (state, t), smallest first, in
+    the problem's dimensionless norms (rows divided by `residual_scale`, columns multiplied by
+    `state_scale`, as Newton measures residuals and increments). A diagnosis of a path that
+    stops: at a fold (limit point) one of them falls to zero as the square root of the
+    distance to the fold's load factor (docs/validation.md, "Why the squeezed rest's shear
+    stops"). A dense SVD: for problems of up to a few thousand unknowns."""
+    residual, jacobian = problem.evaluate(state, load_factor)
+    columns = np.broadcast_to(problem.state_scale, residual.shape)
+    rows = np.broadcast_to(problem.residual_scale, residual.shape)
+    scaled = jacobian.toarray() / rows[:, None] * columns[None, :]
+    return np.linalg.svd(scaled, compute_uv=False)[::-1][:count]
 
 
 def node_ordering(pattern: scipy.sparse.spmatrix, nodes: np.ndarray) -> np.ndarray:

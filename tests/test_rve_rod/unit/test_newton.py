@@ -16,6 +16,7 @@ from rve_rod.newton import (
     NonlinearProblem,
     newton_solve,
     node_ordering,
+    softest_singular_values,
     solve_path,
 )
 from rve_rod.stepping import SteppingOptions
@@ -104,6 +105,30 @@ def test_path_beyond_a_limit_point_raises_with_the_converged_history():
     assert last.state[0] ** 2 + last.load_factor - 0.5 == pytest.approx(0.0, abs=1e-9)
     assert [step.load_factor for step in error.history.steps] == [0.0, 0.25]
     assert "t=0.49" in str(error)
+
+
+def test_the_softest_singular_value_falls_as_the_root_of_the_distance_to_the_fold():
+    # u^2 = 0.5 - t on its branch u = sqrt(0.5 - t): J = 2u, scaled by the residual scale 4 and
+    # the state scale 0.5 to u / 4, so sigma^2 = (0.5 - t) / 16, zero at the fold t = 0.5
+    def evaluate(u, t):
+        return np.array([u[0] ** 2 + t - 0.5]), scipy.sparse.csr_matrix([[2 * u[0]]])
+
+    problem = NonlinearProblem(evaluate, residual_scale=4.0, state_scale=0.5)
+    for t in (0.0, 0.3, 0.49, 0.4999):
+        (sigma,) = softest_singular_values(problem, np.array([np.sqrt(0.5 - t)]), t, 1)
+        assert sigma**2 == pytest.approx((0.5 - t) / 16, rel=1e-12)
+
+
+def test_softest_singular_values_come_smallest_first_in_the_scaled_norms():
+    # J = diag(3, 1, 2) with row scales (1, 2, 4) and column scales (1, 1, 8): diag(3, 0.5, 4)
+    def evaluate(u, t):
+        return np.zeros(3), scipy.sparse.diags([3.0, 1.0, 2.0]).tocsr()
+
+    problem = NonlinearProblem(
+        evaluate, residual_scale=np.array([1.0, 2.0, 4.0]), state_scale=np.array([1.0, 1.0, 8.0])
+    )
+    values = softest_singular_values(problem, np.zeros(3), 0.0, 2)
+    np.testing.assert_allclose(values, [0.5, 3.0], rtol=1e-14)
 
 
 def test_refused_states_cut_back_to_the_admissible_limit_and_are_never_committed():
