@@ -16,7 +16,11 @@ or forms imports it) wraps FFCx's compile functions so that
   that lock instead of polling for 10 s (so concurrent runs no longer time out either), then
   loads the finished module, or, when there is none, takes a `.c` left behind as the relic of
   a compilation that died and compiles the module itself;
-- an interrupted compilation moves its `.c` aside (`.c.failed`) as FFCx does for errors;
+- an interrupted compilation moves its `.c` aside (`.c.failed`) as FFCx does for errors, and
+  a Ctrl-C or SIGTERM that Python lost during the build (raised inside a finalizer of the C
+  build's objects, whose exceptions Python prints and ignores: "Exception ignored in ...")
+  stops the run as soon as the compilation has ended (`rve_rod.errors.
+  raise_pending_interrupt`), instead of being lost;
 - the build's compiler command lines (distutils logs them on the root logger at INFO while
   it lowers the root logger's level) are kept out of the user's logs: one DEBUG line per
   compiled module on this module's logger instead.
@@ -35,6 +39,8 @@ import time
 from pathlib import Path
 
 import ffcx.codegeneration.jit as ffcx_jit
+
+from rve_rod.errors import raise_pending_interrupt
 
 __all__ = [
     "COMPILE_FUNCTIONS",
@@ -95,7 +101,7 @@ def _guarded(compile_function):
         root = logging.getLogger()
         root.addFilter(_not_the_build)
         try:
-            return compile_function(*args, **kwargs)
+            compiled = compile_function(*args, **kwargs)
         except BaseException as error:
             source = _Compilation.source
             if not isinstance(error, Exception) and source is not None and source.exists():
@@ -109,6 +115,8 @@ def _guarded(compile_function):
                 )
                 os.close(_Compilation.lock)
                 _Compilation.lock = _Compilation.source = None
+        raise_pending_interrupt()  # a Ctrl-C the build's finalizers swallowed: stop here
+        return compiled
 
     setattr(guarded, _WRAPPED, True)
     return guarded

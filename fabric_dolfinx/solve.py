@@ -39,6 +39,7 @@ from rve_rod.errors import (
     check_integer,
     check_positive,
     check_range,
+    raise_pending_interrupt,
 )
 from rve_rod.limits import check_count
 from rve_rod.stepping import StepController, SteppingOptions
@@ -353,6 +354,7 @@ class LoadStepper:
         converged_state = self.u.x.array.copy()
         previous_state = None  # the converged state before `converged_state`
         while not controller.finished:
+            raise_pending_interrupt()  # a Ctrl-C Python lost in a callback stops the run here
             load, trial = controller.load_factor, controller.trial()
             if stepping.extrapolate and previous_state is not None:
                 ratio = (trial - load) / (load - controller.previous)

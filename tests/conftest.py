@@ -1,11 +1,13 @@
 """Shared test settings (non-interactive plotting, Open MPI allowed as root) and fixtures."""
 
 import os
+import signal
 import zlib
 
 import numpy as np
 import pytest
 
+from rve_rod import errors
 from rve_rod.geometry.loop import loop_geometry
 from rve_rod.presets import load_preset
 
@@ -30,3 +32,14 @@ def _draws_of_the_test_alone(request):
     suite is a test of nothing."""
     if isinstance(getattr(request.module, "RNG", None), np.random.Generator):
         request.module.RNG = np.random.default_rng(zlib.crc32(request.node.nodeid.encode()))
+
+
+@pytest.fixture
+def signal_handlers():
+    """Python's SIGINT handler for the test, the process's handlers and no pending signal after."""
+    previous = signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous[0])
+    signal.signal(signal.SIGTERM, previous[1])
+    errors._pending.clear()

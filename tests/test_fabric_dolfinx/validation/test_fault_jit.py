@@ -62,7 +62,8 @@ def test_a_run_stopped_during_compilation_does_not_break_the_next(
 ):
     stopped = stop_while_compiling(tmp_path, signum)
     assert (stopped.returncode, stopped.stderr) == (status, message), (
-        f"cache when signalled: {stopped.signalled}; stdout: {stopped.stdout[-500:]!r}"
+        f"cache when signalled: {stopped.signalled}; stdout: {stopped.stdout[-500:]!r}; "
+        f"stderr: {stopped.stderr[-1000:]!r}"
     )
     started = time.perf_counter()
     rerun = subprocess.run(

@@ -3,11 +3,14 @@ convergence, symmetry for energy surfaces (and Krylov solvers on it), cutback an
 
 import dataclasses
 import re
+import signal
+import sys
 
 import dolfinx.fem.petsc
 import numpy as np
 import pytest
 from dolfinx import fem
+from support.signals import signal_inside_an_ignoring_callback
 from support.surface_cases import COTTON_LIKE_LAW, synthetic_surface
 
 from fabric_dolfinx.material import surface_material
@@ -16,7 +19,7 @@ from fabric_dolfinx.membrane.quadrature import QuadratureMaterial
 from fabric_dolfinx.part.tension import TensionSetup
 from fabric_dolfinx.solve import SolverOptions
 from fabric_dolfinx.spec.tension import TensionTest
-from rve_rod.errors import ConvergenceError
+from rve_rod.errors import ConvergenceError, terminate_as_interrupt
 from rve_rod.stepping import SteppingOptions
 from rve_rod.surface import ResponseSurface
 
@@ -146,3 +149,15 @@ def test_extrapolated_start_saves_iterations_and_keeps_the_forces():
     np.testing.assert_allclose(predicted.strain, plain.strain, rtol=0, atol=1e-15)
     np.testing.assert_allclose(predicted.force_n_per_mm, plain.force_n_per_mm, rtol=1e-8)
     assert predicted.newton_iterations.sum() < plain.newton_iterations.sum()
+
+
+def test_a_ctrl_c_lost_in_a_callback_stops_the_load_path_at_its_next_step(
+    signal_handlers, monkeypatch
+):
+    setup = TensionSetup(STRESS, TensionTest(max_strain=0.1), SolverOptions(steps=2))
+    monkeypatch.setattr(sys, "unraisablehook", lambda unraisable: None)  # printed and ignored
+    terminate_as_interrupt()
+    signal_inside_an_ignoring_callback(signal.SIGINT)  # lost: the run would go on
+    with pytest.raises(KeyboardInterrupt):
+        setup.run()
+    assert setup.run().strain[-1] == pytest.approx(0.1)  # raised once: the next run goes through

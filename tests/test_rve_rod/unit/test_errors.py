@@ -4,10 +4,10 @@ import os
 import signal
 import sys
 import time
-import weakref
 
 import numpy as np
 import pytest
+from support.signals import signal_inside_an_ignoring_callback
 
 from rve_rod import errors
 from rve_rod.errors import (
@@ -123,35 +123,6 @@ def test_every_command_line_gives_usage_errors_one_line_and_exit_2(
     assert message in lines[0]
 
 
-@pytest.fixture
-def signal_handlers():
-    """Python's SIGINT handler for the test, the process's handlers and no pending signal after."""
-    previous = signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)
-    signal.signal(signal.SIGINT, signal.default_int_handler)
-    yield
-    signal.signal(signal.SIGINT, previous[0])
-    signal.signal(signal.SIGTERM, previous[1])
-    errors._pending.clear()
-
-
-def _signal_inside_an_ignoring_callback(signum):
-    """Send `signum` to this process so that its handler runs inside a weakref callback, whose
-    exceptions Python prints and ignores (as it does those of an at-fork hook: logging's lock
-    release while a process pool forks a worker)."""
-
-    class Owner:
-        pass
-
-    def callback(_reference):
-        os.kill(os.getpid(), signum)
-        time.sleep(1.0)  # the handler runs here and raises inside the callback
-
-    owner = Owner()
-    reference = weakref.ref(owner, callback)
-    del owner  # runs the callback: its exception is printed, not raised
-    return reference
-
-
 @pytest.mark.parametrize(
     ("signum", "expected"),
     [(signal.SIGINT, KeyboardInterrupt), (signal.SIGTERM, errors.Terminated)],
@@ -163,7 +134,7 @@ def test_a_signal_lost_in_a_callback_is_raised_where_the_run_waits(
     monkeypatch.setattr(sys, "unraisablehook", lambda unraisable: lost.append(unraisable.exc_type))
     terminate_as_interrupt()
     raise_pending_interrupt()  # nothing pending: nothing raised
-    _signal_inside_an_ignoring_callback(signum)  # the run went on: the signal was lost here
+    signal_inside_an_ignoring_callback(signum)  # the run went on: the signal was lost here
     assert lost == [expected]
     with pytest.raises(expected):
         raise_pending_interrupt()
