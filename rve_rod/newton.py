@@ -78,6 +78,7 @@ from rve_rod.errors import (
     check_integer,
     check_positive,
     check_range,
+    raise_pending_interrupt,
 )
 from rve_rod.stepping import StepController, SteppingOptions
 
@@ -720,6 +721,7 @@ def solve_path(
     previous_state = None  # the accepted state before the current one
     last = None  # the last accepted Newton solve on the way to the current target
     while not controller.finished:
+        raise_pending_interrupt()  # a Ctrl-C Python lost in a callback stops the path here
         t, target = controller.load_factor, controller.target
         trial = controller.trial()
         guess = state

@@ -2,14 +2,17 @@
 
 import dataclasses
 import itertools
+import signal
+import sys
 
 import numpy as np
 import pytest
 import scipy.sparse
 import scipy.sparse.linalg
+from support.signals import signal_inside_an_ignoring_callback
 
 from rve_rod import newton
-from rve_rod.errors import ConvergenceError, InputError
+from rve_rod.errors import ConvergenceError, InputError, terminate_as_interrupt
 from rve_rod.newton import (
     LinearSolver,
     NewtonOptions,
@@ -462,3 +465,13 @@ def test_linear_convergence_below_the_residual_tolerance_is_not_taken_for_round_
     assert result.converged
     assert result.increment_norms[-1] <= 1e-12
     np.testing.assert_allclose(result.state, np.ones(2), atol=1e-11)
+
+
+def test_a_ctrl_c_lost_in_a_callback_stops_the_path_at_its_next_step(signal_handlers, monkeypatch):
+    monkeypatch.setattr(sys, "unraisablehook", lambda unraisable: None)  # printed and ignored
+    terminate_as_interrupt()
+    signal_inside_an_ignoring_callback(signal.SIGINT)  # lost: the path would go on
+    with pytest.raises(KeyboardInterrupt):
+        solve_path(cubic_problem(), np.zeros(2), [1.0])
+    path = solve_path(cubic_problem(), np.zeros(2), [1.0])  # raised once
+    np.testing.assert_allclose(path.final_state, [1.0, 1.0], atol=1e-9)
