@@ -10,7 +10,7 @@ singular value goes to zero as the square root of the distance to it), and at th
 attempt's final iterate the Newton step's nonlinear part R(u + s du) - R(u) - s J du at s =
 0.001 ... 1 (growing as s squared: the system is smooth there, the tangent consistent).
 docs/validation.md, "Why the squeezed rest's shear stops: a fold of its frictional path", has
-the numbers (about 1 minute).
+the numbers (about 1.5 minutes).
 
     .venv/bin/python benchmarks/paper_rve_fold.py
 """

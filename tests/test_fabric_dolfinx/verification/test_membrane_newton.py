@@ -1,5 +1,6 @@
 """The consistent tangent of the membrane: finite differences of the residual, quadratic Newton
-convergence, symmetry for energy surfaces (and Krylov solvers on it), cutback and failure."""
+convergence, symmetry for energy surfaces (and Krylov solvers on it), cutback and failure, and
+a Ctrl-C that Python lost stopping the load path."""
 
 import dataclasses
 import re
